@@ -1,0 +1,7 @@
+//! crush: explicit 3D material point method simulations of thin-walled tubes crushed between
+//! rigid plates, as a library ([`solver`]), a command-line runner ([`cli`]) and an HTTP job
+//! server ([`service`]).
+
+pub mod cli;
+pub mod service;
+pub mod solver;

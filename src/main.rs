@@ -1,0 +1,28 @@
+//! `crush serve | run`: wires configuration to the library; nothing else lives here.
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "crush", version, about = "MPM crush simulations of thin-walled tubes")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Start the HTTP job server.
+    Serve(crush::service::ServeArgs),
+    /// Run one crush case and write its history and summary.
+    Run(crush::cli::RunArgs),
+}
+
+fn main() -> anyhow::Result<()> {
+    match Cli::parse().command {
+        Command::Serve(args) => {
+            let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
+            runtime.block_on(crush::service::serve(args))
+        }
+        Command::Run(args) => crush::cli::run(args),
+    }
+}

@@ -1,0 +1,487 @@
+//! The crush case: the JSON a user writes (serde, units in the field names: mm, MPa, kg/m³, m/s)
+//! and its validation into a [`Case`] the rest of the solver can trust.
+//!
+//! Omitted fields take the PVC defaults of the design page (t = 3.2 mm, d = 22.2 mm, l = 76.2 mm,
+//! E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the density is our assumption, the
+//! source gives none; rigid PVC lies between 1300 and 1450 kg/m³).
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Whole case as written by a user. Every section and field may be omitted.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct CaseSpec {
+    /// Free text carried along with the case (not used by the physics).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
+    pub tube: Tube,
+    pub material: Material,
+    pub loading: Loading,
+    pub contact: Contact,
+    pub discretization: Discretization,
+    pub trigger: Trigger,
+    pub output: Output,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Tube {
+    /// Wall thickness t.
+    pub thickness_mm: f64,
+    /// Mean diameter d, measured at the wall's mid-surface.
+    pub mean_diameter_mm: f64,
+    /// Length l along the tube axis.
+    pub length_mm: f64,
+}
+
+impl Default for Tube {
+    fn default() -> Self {
+        Tube { thickness_mm: 3.2, mean_diameter_mm: 22.2, length_mm: 76.2 }
+    }
+}
+
+/// Constitutive model of the wall.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialModel {
+    /// Elastic–perfectly plastic, von Mises (J2) yield, radial return.
+    #[default]
+    J2,
+    /// Linear elastic, never yields (a stability check, not a crash material).
+    Elastic,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Material {
+    pub model: MaterialModel,
+    pub youngs_modulus_mpa: f64,
+    pub poisson_ratio: f64,
+    pub yield_stress_mpa: f64,
+    pub density_kg_m3: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            model: MaterialModel::J2,
+            youngs_modulus_mpa: 3378.4,
+            poisson_ratio: 0.42,
+            yield_stress_mpa: 65.5,
+            density_kg_m3: 1380.0,
+        }
+    }
+}
+
+/// How the plates meet the tube.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadingMode {
+    /// Plates normal to the tube axis.
+    #[default]
+    Axial,
+    /// Tube lying between the plates, flattened across a diameter.
+    Lateral,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Loading {
+    pub mode: LoadingMode,
+    /// Constant speed of the moving (top) plate; the bottom plate is fixed.
+    pub plate_speed_m_s: f64,
+    /// How far the top plate travels. Omitted: 50 mm axial, 12.5 mm lateral.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crush_distance_mm: Option<f64>,
+}
+
+impl Default for Loading {
+    fn default() -> Self {
+        Loading { mode: LoadingMode::Axial, plate_speed_m_s: 10.0, crush_distance_mm: None }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Contact {
+    /// Coulomb friction coefficient μ between tube and plates.
+    pub friction: f64,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Contact { friction: 0.02 }
+    }
+}
+
+/// Shape functions of the background grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeKind {
+    /// Trilinear hat functions (standard MPM).
+    Linear,
+    /// Uniform GIMP: the particle is a box of side h that never changes.
+    #[default]
+    Gimp,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Discretization {
+    /// n: particles through the wall; the particle spacing is h = t / n in every direction.
+    pub particles_through_thickness: u32,
+    /// k: background cell size = k · h.
+    pub cell_to_particle_ratio: f64,
+    /// α in Δt = α · cell / max(c + |v|).
+    pub cfl: f64,
+    pub shape: ShapeKind,
+}
+
+impl Default for Discretization {
+    fn default() -> Self {
+        Discretization {
+            particles_through_thickness: 4,
+            cell_to_particle_ratio: 2.0,
+            cfl: 0.5,
+            shape: ShapeKind::Gimp,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Trigger {
+    /// Fraction of tube particles made weak (0.003 in the source); 0 disables the trigger.
+    pub weak_fraction: f64,
+    /// Yield stress of a weak particle divided by σy.
+    pub strength_ratio: f64,
+    /// Seed of the random choice of weak particles.
+    pub seed: u64,
+}
+
+impl Default for Trigger {
+    fn default() -> Self {
+        Trigger { weak_fraction: 0.0, strength_ratio: 0.01, seed: 1 }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Output {
+    /// Number of history rows, at equal plate-displacement intervals.
+    pub history_points: u32,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output { history_points: 500 }
+    }
+}
+
+/// Limits a caller puts on what it is willing to run.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    pub max_particles: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_particles: 5_000_000 }
+    }
+}
+
+/// One rejected field: its dotted path and why.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FieldError {
+    pub field: String,
+    pub reason: String,
+}
+
+/// Everything wrong with a case, every field named.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CaseError {
+    /// The text is not JSON, or a field has the wrong type or an unknown name.
+    #[error("malformed case: {message}")]
+    Malformed { field: Option<String>, message: String },
+    /// The JSON parses but makes no physical or computational sense.
+    #[error("invalid case: {}", list(.0))]
+    Invalid(Vec<FieldError>),
+}
+
+fn list(errors: &[FieldError]) -> String {
+    errors.iter().map(|e| format!("{} {}", e.field, e.reason)).collect::<Vec<_>>().join("; ")
+}
+
+impl fmt::Display for FieldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {}", self.field, self.reason)
+    }
+}
+
+/// A case that has been checked: every number finite and in range, the particle count within
+/// the caller's limit. Only [`Case::parse`] makes one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    spec: CaseSpec,
+    crush_distance_mm: f64,
+}
+
+impl Case {
+    /// JSON text → valid case, or every reason it is not.
+    pub fn from_json(text: &str, limits: &Limits) -> Result<Case, CaseError> {
+        let spec = spec_from_json(text)?;
+        Case::parse(spec, limits)
+    }
+
+    /// Checks every field and collects every failure.
+    pub fn parse(spec: CaseSpec, limits: &Limits) -> Result<Case, CaseError> {
+        let mut c = Checker::default();
+        let t = &spec.tube;
+        c.positive("tube.thickness_mm", t.thickness_mm);
+        c.positive("tube.mean_diameter_mm", t.mean_diameter_mm);
+        c.positive("tube.length_mm", t.length_mm);
+        if t.thickness_mm.is_finite()
+            && t.mean_diameter_mm.is_finite()
+            && t.thickness_mm >= t.mean_diameter_mm / 2.0
+        {
+            c.fail("tube.thickness_mm", "must be < mean_diameter_mm / 2 (the wall would close the bore)");
+        }
+        let m = &spec.material;
+        c.positive("material.youngs_modulus_mpa", m.youngs_modulus_mpa);
+        c.range("material.poisson_ratio", m.poisson_ratio, -0.99, 0.4999, "must be in [-0.99, 0.4999]");
+        c.positive("material.yield_stress_mpa", m.yield_stress_mpa);
+        c.positive("material.density_kg_m3", m.density_kg_m3);
+        let l = &spec.loading;
+        c.positive("loading.plate_speed_m_s", l.plate_speed_m_s);
+        let crush = l.crush_distance_mm.unwrap_or(match l.mode {
+            LoadingMode::Axial => 50.0,
+            LoadingMode::Lateral => 12.5,
+        });
+        let wave = wave_speed_m_s(m);
+        if wave.is_finite() && l.plate_speed_m_s.is_finite() && l.plate_speed_m_s > 0.5 * wave {
+            c.fail(
+                "loading.plate_speed_m_s",
+                &format!("must be below half the material's wave speed ({:.0} m/s)", 0.5 * wave),
+            );
+        }
+        c.positive("loading.crush_distance_mm", crush);
+        let room = match l.mode {
+            LoadingMode::Axial => t.length_mm,
+            LoadingMode::Lateral => t.mean_diameter_mm - t.thickness_mm,
+        };
+        if crush.is_finite() && room.is_finite() && crush >= 0.95 * room {
+            let what = match l.mode {
+                LoadingMode::Axial => "95 % of tube.length_mm",
+                LoadingMode::Lateral => "95 % of the bore (mean_diameter_mm - thickness_mm)",
+            };
+            c.fail("loading.crush_distance_mm", &format!("must be < {what} = {:.3} mm", 0.95 * room));
+        }
+        c.range("contact.friction", spec.contact.friction, 0.0, 2.0, "must be in [0, 2]");
+        let d = &spec.discretization;
+        if !(1..=16).contains(&d.particles_through_thickness) {
+            c.fail("discretization.particles_through_thickness", "must be an integer in [1, 16]");
+        }
+        c.range("discretization.cell_to_particle_ratio", d.cell_to_particle_ratio, 1.0, 4.0, "must be in [1, 4]");
+        if !(d.cfl.is_finite() && d.cfl > 0.0 && d.cfl <= 1.0) {
+            c.fail("discretization.cfl", "must be > 0 and <= 1");
+        }
+        let g = &spec.trigger;
+        c.range("trigger.weak_fraction", g.weak_fraction, 0.0, 0.1, "must be in [0, 0.1]");
+        if !(g.strength_ratio.is_finite() && g.strength_ratio > 0.0 && g.strength_ratio <= 1.0) {
+            c.fail("trigger.strength_ratio", "must be > 0 and <= 1");
+        }
+        if !(10..=100_000).contains(&spec.output.history_points) {
+            c.fail("output.history_points", "must be an integer in [10, 100000]");
+        }
+        if let Some(label) = &spec.label {
+            if label.chars().count() > 200 {
+                c.fail("label", "must be at most 200 characters");
+            }
+        }
+        if c.errors.is_empty() {
+            let n = particle_count(&spec);
+            if n > limits.max_particles {
+                c.fail(
+                    "discretization.particles_through_thickness",
+                    &format!(
+                        "gives {n} particles, more than this runner's limit of {}",
+                        limits.max_particles
+                    ),
+                );
+            }
+        }
+        if c.errors.is_empty() {
+            Ok(Case { spec, crush_distance_mm: crush })
+        } else {
+            Err(CaseError::Invalid(c.errors))
+        }
+    }
+
+    pub fn spec(&self) -> &CaseSpec {
+        &self.spec
+    }
+
+    /// Particle spacing h = t / n, mm.
+    pub fn spacing_mm(&self) -> f64 {
+        self.spec.tube.thickness_mm / self.spec.discretization.particles_through_thickness as f64
+    }
+
+    /// Background cell size k · h, mm.
+    pub fn cell_mm(&self) -> f64 {
+        self.spacing_mm() * self.spec.discretization.cell_to_particle_ratio
+    }
+
+    /// Crush distance with the mode's default filled in, mm.
+    pub fn crush_distance_mm(&self) -> f64 {
+        self.crush_distance_mm
+    }
+
+    /// Number of tube particles the scene will hold.
+    pub fn particle_count(&self) -> u64 {
+        particle_count(&self.spec)
+    }
+
+    /// Dilatational wave speed of the undeformed material, m/s (= mm/ms).
+    pub fn wave_speed_m_s(&self) -> f64 {
+        wave_speed_m_s(&self.spec.material)
+    }
+}
+
+/// JSON text → spec, naming the field of a type error or an unknown field.
+pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        CaseError::Malformed {
+            field: (path != "." && !path.is_empty()).then_some(path),
+            message: e.inner().to_string(),
+        }
+    })
+}
+
+/// c = √(E(1−ν) / ((1+ν)(1−2ν)ρ)) in m/s, from E in MPa and ρ in kg/m³.
+fn wave_speed_m_s(m: &Material) -> f64 {
+    let nu = m.poisson_ratio;
+    let modulus_pa = m.youngs_modulus_mpa * 1e6 * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    (modulus_pa / m.density_kg_m3).sqrt()
+}
+
+/// Counts particles exactly as the scene lays them out (see `scene.rs`).
+fn particle_count(spec: &CaseSpec) -> u64 {
+    let t = spec.tube.thickness_mm;
+    let n = spec.discretization.particles_through_thickness as u64;
+    let h = t / n as f64;
+    let inner = spec.tube.mean_diameter_mm / 2.0 - t / 2.0;
+    let axial = layers_along(spec.tube.length_mm, h);
+    (0..n).map(|j| around(inner + (j as f64 + 0.5) * h, h) * axial).sum()
+}
+
+/// Particles around a ring of radius r at spacing h (at least 8).
+pub(crate) fn around(r: f64, h: f64) -> u64 {
+    ((2.0 * std::f64::consts::PI * r / h).round() as u64).max(8)
+}
+
+/// Particle layers along a length at spacing h (at least 1).
+pub(crate) fn layers_along(length: f64, h: f64) -> u64 {
+    ((length / h).round() as u64).max(1)
+}
+
+#[derive(Default)]
+struct Checker {
+    errors: Vec<FieldError>,
+}
+
+impl Checker {
+    fn fail(&mut self, field: &str, reason: &str) {
+        self.errors.push(FieldError { field: field.into(), reason: reason.into() });
+    }
+    fn positive(&mut self, field: &str, v: f64) {
+        if !(v.is_finite() && v > 0.0) {
+            self.fail(field, "must be a finite number > 0");
+        }
+    }
+    fn range(&mut self, field: &str, v: f64, lo: f64, hi: f64, reason: &str) {
+        if !(v.is_finite() && v >= lo && v <= hi) {
+            self.fail(field, reason);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_object_is_the_pvc_default() {
+        let case = Case::from_json("{}", &Limits::default()).unwrap();
+        assert_eq!(case.spec().tube.thickness_mm, 3.2);
+        assert_eq!(case.crush_distance_mm(), 50.0);
+        // 2π·11.1/0.8 etc.: the n = 4 lattice of the design page holds about 35 k particles.
+        let n = case.particle_count();
+        assert!((33_000..37_000).contains(&n), "{n}");
+    }
+
+    #[test]
+    fn n6_lattice_matches_the_source_particle_count() {
+        let mut spec = CaseSpec::default();
+        spec.discretization.particles_through_thickness = 6;
+        let n = Case::parse(spec, &Limits::default()).unwrap().particle_count();
+        // The source reports about 113 k particles at n = 6; within 3 %.
+        assert!((n as f64 / 113_000.0 - 1.0).abs() < 0.03, "{n}");
+    }
+
+    #[test]
+    fn every_bad_field_is_named() {
+        let text = r#"{"tube": {"thickness_mm": 12, "mean_diameter_mm": 22.2},
+            "material": {"poisson_ratio": 0.5, "density_kg_m3": -1},
+            "loading": {"plate_speed_m_s": -3},
+            "discretization": {"cfl": 0, "particles_through_thickness": 0},
+            "trigger": {"weak_fraction": 0.5},
+            "output": {"history_points": 1}}"#;
+        let Err(CaseError::Invalid(errors)) = Case::from_json(text, &Limits::default()) else {
+            panic!("accepted a bad case")
+        };
+        let fields: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+        for f in [
+            "tube.thickness_mm",
+            "material.poisson_ratio",
+            "material.density_kg_m3",
+            "loading.plate_speed_m_s",
+            "discretization.cfl",
+            "discretization.particles_through_thickness",
+            "trigger.weak_fraction",
+            "output.history_points",
+        ] {
+            assert!(fields.contains(&f), "{f} not named in {fields:?}");
+        }
+    }
+
+    #[test]
+    fn too_many_particles_is_rejected_with_the_count() {
+        let text = r#"{"discretization": {"particles_through_thickness": 10}}"#;
+        let err = Case::from_json(text, &Limits { max_particles: 100_000 }).unwrap_err();
+        assert!(err.to_string().contains("particles_through_thickness"), "{err}");
+        assert!(err.to_string().contains("limit of 100000"), "{err}");
+    }
+
+    #[test]
+    fn type_errors_and_unknown_fields_name_the_field() {
+        let Err(CaseError::Malformed { field, .. }) =
+            Case::from_json(r#"{"tube": {"thickness_mm": "thick"}}"#, &Limits::default())
+        else {
+            panic!()
+        };
+        assert_eq!(field.as_deref(), Some("tube.thickness_mm"));
+        let err = Case::from_json(r#"{"tube": {"wall": 1}}"#, &Limits::default()).unwrap_err();
+        assert!(err.to_string().contains("wall"), "{err}");
+        assert!(Case::from_json("{", &Limits::default()).is_err());
+    }
+
+    #[test]
+    fn lateral_crush_must_fit_in_the_bore() {
+        let text = r#"{"loading": {"mode": "lateral", "crush_distance_mm": 30}}"#;
+        let err = Case::from_json(text, &Limits::default()).unwrap_err();
+        assert!(err.to_string().contains("loading.crush_distance_mm"), "{err}");
+    }
+}

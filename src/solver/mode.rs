@@ -1,0 +1,1 @@
+//! Collapse-mode detection from the final shape (placeholder: being built).
