@@ -5,6 +5,7 @@
 //! force is N, stress MPa, velocity m/s (= mm/ms) and energy mJ (= N·mm).
 
 pub mod case;
+pub mod estimate;
 pub mod history;
 pub mod mode;
 pub mod observer;
@@ -12,6 +13,7 @@ pub mod reference;
 pub mod summary;
 
 pub use case::{Case, CaseError, CaseSpec, FieldError, Limits};
+pub use estimate::{estimate, Estimate};
 pub use history::HistoryRow;
 pub use observer::{Observer, Progress, Recorder};
 pub use summary::{CollapseMode, RunCost, Summary};
