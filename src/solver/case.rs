@@ -126,6 +126,19 @@ pub enum ShapeKind {
     Gimp,
 }
 
+/// How velocities move between particles and grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Transfer {
+    /// MUSL with FLIP particle velocities (design page §2): the particle keeps its velocity and
+    /// adds the grid's change; the grid velocity is then remapped from the particles.
+    #[default]
+    Flip,
+    /// Affine particle-in-cell: the particle carries its velocity gradient to the grid, takes
+    /// the grid velocity back. Reproduces rigid rotation exactly; one transfer pair per step.
+    Apic,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Discretization {
@@ -136,6 +149,10 @@ pub struct Discretization {
     /// α in Δt = α · cell / max(c + |v|).
     pub cfl: f64,
     pub shape: ShapeKind,
+    pub transfer: Transfer,
+    /// Smooth the pressure through the grid every step (against volumetric locking of the
+    /// nearly incompressible plastic flow).
+    pub pressure_smoothing: bool,
 }
 
 impl Default for Discretization {
@@ -145,6 +162,8 @@ impl Default for Discretization {
             cell_to_particle_ratio: 2.0,
             cfl: 0.5,
             shape: ShapeKind::Gimp,
+            transfer: Transfer::Flip,
+            pressure_smoothing: true,
         }
     }
 }
@@ -285,6 +304,12 @@ impl Case {
         c.range("discretization.cell_to_particle_ratio", d.cell_to_particle_ratio, 1.0, 4.0, "must be in [1, 4]");
         if !(d.cfl.is_finite() && d.cfl > 0.0 && d.cfl <= 1.0) {
             c.fail("discretization.cfl", "must be > 0 and <= 1");
+        }
+        if d.shape == ShapeKind::Linear && d.transfer == Transfer::Apic {
+            c.fail(
+                "discretization.transfer",
+                "apic needs shape gimp: with linear shape functions it grows round-off at cell crossings",
+            );
         }
         let g = &spec.trigger;
         c.range("trigger.weak_fraction", g.weak_fraction, 0.0, 0.1, "must be in [0, 0.1]");

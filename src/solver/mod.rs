@@ -5,6 +5,13 @@
 //! force is N, stress MPa, velocity m/s (= mm/ms) and energy mJ (= N·mm).
 
 pub mod case;
+pub mod contact;
+pub mod grid;
+pub mod material;
+pub mod particles;
+pub mod scene;
+pub mod shape;
+pub mod step;
 pub mod estimate;
 pub mod history;
 pub mod mode;
@@ -17,8 +24,6 @@ pub use estimate::{estimate, Estimate};
 pub use history::HistoryRow;
 pub use observer::{Observer, Progress, Recorder};
 pub use summary::{CollapseMode, RunCost, Summary};
-
-use std::sync::atomic::AtomicBool;
 
 /// The floating-point type of all solver state.
 pub type Real = f64;

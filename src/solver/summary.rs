@@ -54,3 +54,29 @@ pub struct Summary {
     pub references: References,
     pub cost: RunCost,
 }
+
+/// TEMPORARY minimal summary until the post-processing lands.
+pub fn summarize(case: &Case, history: &[HistoryRow], _snapshot: &Snapshot, cost: RunCost) -> Summary {
+    let mut tea = 0.0;
+    let (mut u0, mut p0) = (0.0, 0.0);
+    for r in history {
+        tea += 0.5 * (p0 + r.load_top_n) * (r.displacement_mm - u0);
+        u0 = r.displacement_mm;
+        p0 = r.load_top_n;
+    }
+    let last = history.last().copied().unwrap_or_default();
+    let err = (last.external_mj - (last.kinetic_mj + last.internal_mj + last.friction_mj)).abs()
+        / last.external_mj.max(last.internal_mj).max(1e-30);
+    Summary {
+        mean_load_n: tea / u0.max(1e-30),
+        peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
+        energy_absorbed_mj: tea,
+        crush_distance_mm: case.crush_distance_mm(),
+        folds: 0,
+        energy_balance_error: err,
+        kinetic_to_internal: last.kinetic_mj / last.internal_mj.max(1e-30),
+        mode: CollapseMode::Ring,
+        references: Default::default(),
+        cost,
+    }
+}

@@ -1,0 +1,380 @@
+//! Block-sparse background grid that follows the particles.
+//!
+//! Nodes sit at integer multiples of the cell size (mm). They are grouped in blocks of 4×4×4
+//! owned nodes; only blocks whose nodes some particle's stencil touches exist, so memory follows
+//! the tube, not its bounding box, and is rebuilt from the particles every step.
+//!
+//! Parallel scatter without atomics or aliasing: each block also has a *padded* buffer covering
+//! its nodes −1..+5 per axis, which holds the whole stencil of every particle whose cell lies in
+//! the block. Particle→grid writes only the padded buffer of the particle's block; [`Grid::reduce`]
+//! sums the padded buffers into the owned nodes in a fixed order, and [`Grid::broadcast`] copies
+//! owned values back into the padded buffers for grid→particle reads. Results are independent of
+//! the thread count.
+
+use super::shape::Stencil;
+use super::Real;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// Cells (and owned nodes) per block edge.
+pub const BLOCK: i32 = 4;
+/// Owned nodes per block.
+pub const OWNED: usize = 64;
+/// Padded nodes per block edge: owned nodes −1 ..= +5.
+pub const PAD: usize = 7;
+/// Padded nodes per block.
+pub const PADDED: usize = PAD * PAD * PAD;
+const NONE: u32 = u32::MAX;
+const MARK: u32 = u32::MAX - 1;
+
+/// One node's accumulators. What `a` and `b` hold depends on the phase (see `step.rs`).
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub struct Node {
+    pub mass: Real,
+    pub a: [Real; 3],
+    pub b: [Real; 3],
+    /// Mass-weighted particle pressure, then (after the grid update) the nodal pressure, MPa.
+    pub pressure: Real,
+}
+
+/// The sparse grid and the binning of particles into its blocks.
+#[derive(Debug, Default)]
+pub struct Grid {
+    pub cell: Real,
+    pub inv_cell: Real,
+    /// Block coordinates of the table's first entry, and the table's extent in blocks.
+    lo: [i32; 3],
+    dim: [i32; 3],
+    /// Dense table over the blocks' bounding box: active block id or NONE.
+    table: Vec<u32>,
+    /// Block coordinates of each active block.
+    pub blocks: Vec<[i32; 3]>,
+    /// For each active block, its 27 neighbours (itself at index 13) or `u32::MAX`.
+    pub neighbors: Vec<[u32; 27]>,
+    /// Particles of block b are `order[starts[b]..starts[b + 1]]`.
+    pub starts: Vec<u32>,
+    pub order: Vec<u32>,
+    /// Block of each particle's cell.
+    pub home: Vec<u32>,
+    pub padded: Vec<Node>,
+    pub owned: Vec<Node>,
+    cursor: Vec<u32>,
+}
+
+/// Index into the 27-neighbour array of a block offset in {−1, 0, 1}³.
+#[inline(always)]
+pub fn neighbor_index(d: [i32; 3]) -> usize {
+    ((d[0] + 1) * 9 + (d[1] + 1) * 3 + (d[2] + 1)) as usize
+}
+
+/// Index of a padded node from its coordinates 0..7 relative to the padded origin.
+#[inline(always)]
+pub fn padded_index(i: usize, j: usize, k: usize) -> usize {
+    (i * PAD + j) * PAD + k
+}
+
+impl Grid {
+    pub fn new(cell: Real) -> Grid {
+        Grid { cell, inv_cell: 1.0 / cell, ..Default::default() }
+    }
+
+    /// Number of active blocks.
+    pub fn len(&self) -> usize {
+        self.blocks.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.blocks.is_empty()
+    }
+
+    /// Node coordinates of the padded origin (owned origin − 1) of block `b`.
+    #[inline(always)]
+    pub fn padded_origin(&self, b: usize) -> [i32; 3] {
+        let c = self.blocks[b];
+        [c[0] * BLOCK - 1, c[1] * BLOCK - 1, c[2] * BLOCK - 1]
+    }
+
+    /// Sorts particles into blocks and activates every block a stencil touches.
+    /// `lp` is the particle half-size in grid units.
+    pub fn bin<S: Stencil>(&mut self, x: &[Vector3<Real>], lp: Real) {
+        let inv = self.inv_cell;
+        let mut bmin = [i32::MAX; 3];
+        let mut bmax = [i32::MIN; 3];
+        for p in x {
+            for a in 0..3 {
+                let b = ((p[a] * inv).floor() as i32).div_euclid(BLOCK);
+                bmin[a] = bmin[a].min(b);
+                bmax[a] = bmax[a].max(b);
+            }
+        }
+        // One block of margin for stencils that spill over, one more for neighbour look-ups.
+        self.lo = [bmin[0] - 2, bmin[1] - 2, bmin[2] - 2];
+        self.dim = [bmax[0] - bmin[0] + 5, bmax[1] - bmin[1] + 5, bmax[2] - bmin[2] + 5];
+        let size = (self.dim[0] * self.dim[1] * self.dim[2]) as usize;
+        self.table.clear();
+        self.table.resize(size, NONE);
+        self.home.resize(x.len(), 0);
+        for (q, p) in x.iter().enumerate() {
+            let mut lo = [0; 3];
+            let mut hi = [0; 3];
+            let mut own = [0; 3];
+            for a in 0..3 {
+                let g = p[a] * inv;
+                let (base, _, _) = S::eval(g, lp);
+                lo[a] = base.div_euclid(BLOCK);
+                hi[a] = (base + S::N as i32 - 1).div_euclid(BLOCK);
+                own[a] = (g.floor() as i32).div_euclid(BLOCK);
+            }
+            for i in lo[0]..=hi[0] {
+                for j in lo[1]..=hi[1] {
+                    for k in lo[2]..=hi[2] {
+                        let t = self.slot([i, j, k]);
+                        self.table[t] = MARK;
+                    }
+                }
+            }
+            self.home[q] = self.slot(own) as u32;
+        }
+        self.blocks.clear();
+        for t in 0..size {
+            if self.table[t] == MARK {
+                self.table[t] = self.blocks.len() as u32;
+                let (i, rest) = (t as i32 / (self.dim[1] * self.dim[2]), t as i32 % (self.dim[1] * self.dim[2]));
+                self.blocks.push([self.lo[0] + i, self.lo[1] + rest / self.dim[2], self.lo[2] + rest % self.dim[2]]);
+            }
+        }
+        let nb = self.blocks.len();
+        for h in self.home.iter_mut() {
+            *h = self.table[*h as usize];
+        }
+        // Counting sort of particles by block; within a block, in particle order.
+        self.starts.clear();
+        self.starts.resize(nb + 1, 0);
+        for &h in &self.home {
+            self.starts[h as usize + 1] += 1;
+        }
+        for b in 0..nb {
+            self.starts[b + 1] += self.starts[b];
+        }
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.starts[..nb]);
+        self.order.resize(x.len(), 0);
+        for (p, &h) in self.home.iter().enumerate() {
+            let c = &mut self.cursor[h as usize];
+            self.order[*c as usize] = p as u32;
+            *c += 1;
+        }
+        self.neighbors.resize(nb, [NONE; 27]);
+        for b in 0..nb {
+            let c = self.blocks[b];
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let q = [c[0] + dx, c[1] + dy, c[2] + dz];
+                        self.neighbors[b][neighbor_index([dx, dy, dz])] = self.lookup(q);
+                    }
+                }
+            }
+        }
+        self.padded.resize(nb * PADDED, Node::default());
+        self.owned.resize(nb * OWNED, Node::default());
+    }
+
+    #[inline(always)]
+    fn slot(&self, b: [i32; 3]) -> usize {
+        let r = [b[0] - self.lo[0], b[1] - self.lo[1], b[2] - self.lo[2]];
+        ((r[0] * self.dim[1] + r[1]) * self.dim[2] + r[2]) as usize
+    }
+
+    fn lookup(&self, b: [i32; 3]) -> u32 {
+        for a in 0..3 {
+            if b[a] < self.lo[a] || b[a] >= self.lo[a] + self.dim[a] {
+                return NONE;
+            }
+        }
+        self.table[self.slot(b)]
+    }
+
+    /// Sums the padded buffers into the owned nodes: mass, `a` and `b` when `all`, else `a` only.
+    pub fn reduce(&mut self, all: bool) {
+        let padded = &self.padded;
+        let neighbors = &self.neighbors;
+        self.owned.par_chunks_mut(OWNED).enumerate().for_each(|(b, own)| {
+            for n in own.iter_mut() {
+                if all {
+                    *n = Node::default();
+                } else {
+                    n.a = [0.0; 3];
+                }
+            }
+            for (k, &nb) in neighbors[b].iter().enumerate() {
+                if nb == NONE {
+                    continue;
+                }
+                let d = [k as i32 / 9 - 1, (k as i32 / 3) % 3 - 1, k as i32 % 3 - 1];
+                let src = &padded[nb as usize * PADDED..(nb as usize + 1) * PADDED];
+                let (rx, ry, rz) = (overlap(d[0]), overlap(d[1]), overlap(d[2]));
+                for lx in rx.0..=rx.1 {
+                    for ly in ry.0..=ry.1 {
+                        for lz in rz.0..=rz.1 {
+                            let s = &src[padded_index(
+                                (lx - 4 * d[0] + 1) as usize,
+                                (ly - 4 * d[1] + 1) as usize,
+                                (lz - 4 * d[2] + 1) as usize,
+                            )];
+                            let o = &mut own[((lx * 4 + ly) * 4 + lz) as usize];
+                            for c in 0..3 {
+                                o.a[c] += s.a[c];
+                            }
+                            if all {
+                                o.mass += s.mass;
+                                o.pressure += s.pressure;
+                                for c in 0..3 {
+                                    o.b[c] += s.b[c];
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        });
+    }
+
+    /// Copies the owned nodes into every padded buffer that holds them.
+    pub fn broadcast(&mut self) {
+        let owned = &self.owned;
+        let neighbors = &self.neighbors;
+        self.padded.par_chunks_mut(PADDED).enumerate().for_each(|(b, pad)| {
+            for i in 0..PAD {
+                let (dx, lx) = split(i);
+                for j in 0..PAD {
+                    let (dy, ly) = split(j);
+                    for k in 0..PAD {
+                        let (dz, lz) = split(k);
+                        let nb = neighbors[b][neighbor_index([dx, dy, dz])];
+                        pad[padded_index(i, j, k)] = if nb == NONE {
+                            Node::default()
+                        } else {
+                            owned[nb as usize * OWNED + ((lx * 4 + ly) * 4 + lz) as usize]
+                        };
+                    }
+                }
+            }
+        });
+    }
+
+    /// Node position of owned node `local` of block `b`, mm.
+    #[inline(always)]
+    pub fn owned_position(&self, b: usize, local: usize) -> Vector3<Real> {
+        let c = self.blocks[b];
+        let (i, j, k) = ((local / 16) as i32, ((local / 4) % 4) as i32, (local % 4) as i32);
+        Vector3::new(
+            (c[0] * BLOCK + i) as Real * self.cell,
+            (c[1] * BLOCK + j) as Real * self.cell,
+            (c[2] * BLOCK + k) as Real * self.cell,
+        )
+    }
+
+    /// Bytes held by the grid and the binning arrays.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.padded.capacity() + self.owned.capacity()) * size_of::<Node>()
+            + self.neighbors.capacity() * size_of::<[u32; 27]>()
+            + self.blocks.capacity() * size_of::<[i32; 3]>()
+            + (self.table.capacity() + self.starts.capacity() + self.order.capacity())
+                * size_of::<u32>()
+            + (self.home.capacity() + self.cursor.capacity()) * size_of::<u32>()
+    }
+}
+
+/// Owned-node range (inclusive) of a block that a neighbour at offset `d` covers with its padding.
+#[inline(always)]
+fn overlap(d: i32) -> (i32, i32) {
+    match d {
+        -1 => (0, 1),
+        0 => (0, 3),
+        _ => (3, 3),
+    }
+}
+
+/// Padded coordinate 0..7 → (neighbour offset, local coordinate in that neighbour).
+#[inline(always)]
+fn split(q: usize) -> (i32, i32) {
+    let l = q as i32 - 1;
+    if l < 0 {
+        (-1, l + 4)
+    } else if l < 4 {
+        (0, l)
+    } else {
+        (1, l - 4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::shape::{Gimp, Linear};
+
+    /// Scatter mass 1 per particle with partition-of-unity weights into padded buffers, reduce:
+    /// the owned nodes must hold the total mass exactly once, whatever block boundaries cut it.
+    fn mass_is_conserved<S: Stencil>() {
+        let mut x = Vec::new();
+        for i in 0..40 {
+            for j in 0..7 {
+                x.push(Vector3::new(-3.1 + 0.37 * i as Real, 0.29 * j as Real, 1.7 - 0.41 * j as Real));
+            }
+        }
+        let mut g = Grid::new(0.5);
+        let lp = 0.25;
+        g.bin::<S>(&x, lp);
+        for b in 0..g.len() {
+            let o = g.padded_origin(b);
+            let pad = &mut g.padded[b * PADDED..(b + 1) * PADDED];
+            pad.iter_mut().for_each(|n| *n = Node::default());
+            for &p in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
+                let e: Vec<_> = (0..3).map(|a| S::eval(x[p as usize][a] * 2.0, lp)).collect();
+                for i in 0..S::N {
+                    for j in 0..S::N {
+                        for k in 0..S::N {
+                            let idx = padded_index(
+                                (e[0].0 + i as i32 - o[0]) as usize,
+                                (e[1].0 + j as i32 - o[1]) as usize,
+                                (e[2].0 + k as i32 - o[2]) as usize,
+                            );
+                            pad[idx].mass += e[0].1[i] * e[1].1[j] * e[2].1[k];
+                        }
+                    }
+                }
+            }
+        }
+        g.reduce(true);
+        let total: Real = g.owned.iter().map(|n| n.mass).sum();
+        assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
+        g.broadcast();
+        // Every padded node now equals its owner.
+        for b in 0..g.len() {
+            let o = g.padded_origin(b);
+            for (q, n) in g.padded[b * PADDED..(b + 1) * PADDED].iter().enumerate() {
+                let node = [o[0] + (q / 49) as i32, o[1] + ((q / 7) % 7) as i32, o[2] + (q % 7) as i32];
+                let blk = [node[0].div_euclid(4), node[1].div_euclid(4), node[2].div_euclid(4)];
+                let owner = g.lookup(blk);
+                if owner != NONE {
+                    let l = [node[0].rem_euclid(4), node[1].rem_euclid(4), node[2].rem_euclid(4)];
+                    let on = g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
+                    assert_eq!(n.mass, on.mass);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn linear_scatter_reduce_conserves_mass() {
+        mass_is_conserved::<Linear>();
+    }
+
+    #[test]
+    fn gimp_scatter_reduce_conserves_mass() {
+        mass_is_conserved::<Gimp>();
+    }
+}

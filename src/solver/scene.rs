@@ -1,0 +1,211 @@
+//! A valid case → the scene the engine runs: tube particles on a cylindrical lattice with exact
+//! volumes, two rigid plates normal to z, and the numerical settings. Units: mm, ms, g, MPa.
+//!
+//! Axial loading: tube axis z, bottom plate at z = 0 (fixed), top plate at z = l moving down.
+//! Lateral loading: tube axis x over 0..l, centred on y = z = 0, plates at z = ∓(d + t)/2.
+
+use super::case::{around, layers_along, Case, LoadingMode, MaterialModel, ShapeKind};
+use super::material::Elastoplastic;
+use super::particles::Particles;
+use super::Real;
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// A rigid plate normal to z, of infinite mass, moving at a prescribed velocity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plate {
+    /// z of the surface, mm.
+    pub z: Real,
+    /// +1 when the tube lies below the plate (the top plate), −1 when above (the bottom plate):
+    /// the z component of the normal pointing out of the tube towards the plate.
+    pub side: Real,
+    /// z velocity, mm/ms.
+    pub velocity: Real,
+}
+
+pub use super::case::Transfer;
+
+/// Everything the engine needs; tests build their own.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub particles: Particles,
+    pub material: Elastoplastic,
+    /// Density of the undeformed material, g/mm³ (for the wave speed).
+    pub density: Real,
+    pub plates: Vec<Plate>,
+    pub friction: Real,
+    /// Background cell size, mm.
+    pub cell: Real,
+    /// Half the particle spacing, mm (uGIMP particle half-width).
+    pub half_size: Real,
+    pub shape: ShapeKind,
+    pub cfl: Real,
+    pub transfer: Transfer,
+    /// Replace each particle's pressure by the pressure field interpolated from the nodes, every
+    /// step: one pressure unknown per node instead of per particle, against volumetric locking.
+    pub smooth_pressure: bool,
+    /// Particles must stay inside this box (mm); leaving it is reported as an instability.
+    pub domain: [[Real; 3]; 2],
+}
+
+/// Index of the top (moving) plate and the bottom (fixed) plate in `Scene::plates`.
+pub const TOP: usize = 0;
+pub const BOTTOM: usize = 1;
+
+impl Scene {
+    /// The tube and plates a case describes, with the trigger's weak particles.
+    pub fn from_case(case: &Case) -> Scene {
+        let spec = case.spec();
+        let (t, d, l) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm, spec.tube.length_mm);
+        let h = case.spacing_mm();
+        let rho = spec.material.density_kg_m3 * 1e-6;
+        let particles = tube_lattice(t, d, l, spec.discretization.particles_through_thickness, rho, spec.loading.mode);
+        let m = &spec.material;
+        let yield_stress = match m.model {
+            MaterialModel::J2 => m.yield_stress_mpa,
+            MaterialModel::Elastic => Real::INFINITY,
+        };
+        let speed = spec.loading.plate_speed_m_s;
+        let outer = (d + t) / 2.0;
+        let (top, bottom) = match spec.loading.mode {
+            LoadingMode::Axial => (l, 0.0),
+            LoadingMode::Lateral => (outer, -outer),
+        };
+        let reach = outer + l;
+        let cell = case.cell_mm();
+        let margin = 3.0 * cell;
+        let domain = match spec.loading.mode {
+            LoadingMode::Axial => [[-reach, -reach, -margin], [reach, reach, l + margin]],
+            LoadingMode::Lateral => [[-reach, -reach, -outer - margin], [l + reach, reach, outer + margin]],
+        };
+        let mut scene = Scene {
+            particles,
+            material: Elastoplastic::new(m.youngs_modulus_mpa, m.poisson_ratio, yield_stress),
+            density: rho,
+            plates: vec![
+                Plate { z: top, side: 1.0, velocity: -speed },
+                Plate { z: bottom, side: -1.0, velocity: 0.0 },
+            ],
+            friction: spec.contact.friction,
+            cell,
+            half_size: 0.5 * h,
+            shape: spec.discretization.shape,
+            cfl: spec.discretization.cfl,
+            transfer: spec.discretization.transfer,
+            smooth_pressure: spec.discretization.pressure_smoothing,
+            domain,
+        };
+        let trigger = &spec.trigger;
+        let weak = (trigger.weak_fraction * scene.particles.len() as Real).round() as usize;
+        if weak > 0 {
+            let mut scale = vec![1.0; scene.particles.len()];
+            for p in choose(scene.particles.len(), weak, trigger.seed) {
+                scale[p] = trigger.strength_ratio;
+            }
+            scene.particles.yield_scale = scale;
+        }
+        scene
+    }
+
+    /// Dilatational wave speed of the undeformed material, mm/ms.
+    pub fn wave_speed(&self) -> Real {
+        (self.material.p_wave_modulus() / self.density).sqrt()
+    }
+}
+
+/// Particles of a tube wall: `n` layers through the thickness at spacing h = t/n; each layer at
+/// mid-radius r holds round(2πr/h) particles around and round(l/h) along. Each particle's volume
+/// is its exact annular sector, so the volumes add up to π d t l.
+pub fn tube_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, mode: LoadingMode) -> Particles {
+    let h = t / n as Real;
+    let inner = d / 2.0 - t / 2.0;
+    let along = layers_along(l, h) as usize;
+    let dz = l / along as Real;
+    let rings: Vec<(Real, usize, Real)> = (0..n)
+        .map(|j| {
+            let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
+            let r = 0.5 * (r0 + r1);
+            let count = around(r, h) as usize;
+            (r, count, 0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz)
+        })
+        .collect();
+    let mut p = Particles::default();
+    let total: usize = rings.iter().map(|r| r.1).sum::<usize>() * along;
+    p.x.reserve_exact(total);
+    // Axial position outermost, then angle, then radius: neighbours in space stay near in memory.
+    for k in 0..along {
+        let s = (k as Real + 0.5) * dz;
+        for &(r, count, vol) in &rings {
+            for i in 0..count {
+                let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
+                let (c, sn) = (r * th.cos(), r * th.sin());
+                let x = match mode {
+                    LoadingMode::Axial => Vector3::new(c, sn, s),
+                    LoadingMode::Lateral => Vector3::new(s, c, sn),
+                };
+                p.push(x, rho * vol, vol);
+            }
+        }
+    }
+    p
+}
+
+/// `k` distinct indices below `n`, drawn by a seeded partial Fisher–Yates shuffle. The generator
+/// is SplitMix64, written out so that a seed means the same particles in every build.
+fn choose(n: usize, k: usize, seed: u64) -> Vec<usize> {
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut idx: Vec<usize> = (0..n).collect();
+    for i in 0..k.min(n) {
+        let j = i + (next() % (n - i) as u64) as usize;
+        idx.swap(i, j);
+    }
+    idx.truncate(k.min(n));
+    idx
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::case::Limits;
+
+    #[test]
+    fn lattice_volumes_add_up_to_the_wall() {
+        let (t, d, l) = (3.2, 22.2, 76.2);
+        for mode in [LoadingMode::Axial, LoadingMode::Lateral] {
+            let p = tube_lattice(t, d, l, 4, 1.38e-3, mode);
+            let vol: Real = p.vol.iter().sum();
+            let exact = PI * d * t * l;
+            assert!((vol / exact - 1.0).abs() < 1e-12, "{vol} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn scene_counts_what_the_case_promised() {
+        let case = Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
+        let scene = Scene::from_case(&case);
+        assert_eq!(scene.particles.len() as u64, case.particle_count());
+        // Lateral: every particle between the plates, axis along x.
+        let zmax = scene.particles.x.iter().map(|x| x.z).fold(Real::MIN, Real::max);
+        assert!(zmax < scene.plates[TOP].z && zmax > scene.plates[TOP].z - case.spacing_mm());
+    }
+
+    #[test]
+    fn trigger_is_reproducible_and_of_the_right_size() {
+        let text = r#"{"trigger": {"weak_fraction": 0.003, "seed": 7}, "discretization": {"particles_through_thickness": 2}}"#;
+        let case = Case::from_json(text, &Limits::default()).unwrap();
+        let a = Scene::from_case(&case);
+        let b = Scene::from_case(&case);
+        assert_eq!(a.particles.yield_scale, b.particles.yield_scale);
+        let weak = a.particles.yield_scale.iter().filter(|&&s| s < 1.0).count();
+        assert_eq!(weak, (0.003 * a.particles.len() as f64).round() as usize);
+        let other = Case::from_json(&text.replace("7", "8"), &Limits::default()).unwrap();
+        assert_ne!(Scene::from_case(&other).particles.yield_scale, a.particles.yield_scale);
+    }
+}

@@ -1,0 +1,431 @@
+//! One explicit MUSL step, a function per phase:
+//! bin → p2g (mass, momentum, force) → reduce → grid update with plate contact → broadcast →
+//! g2p (velocity) → p2g (momentum again: MUSL remap) → reduce → remap with contact → broadcast →
+//! g2p (velocity gradient, position) with the stress update. Units: mm, ms, g, N, MPa, mJ.
+//!
+//! The velocity gradient always comes from the remapped grid velocities: a node that a particle
+//! barely touches gets a huge velocity from f/m in the grid update, and with linear shape
+//! functions its gradient weight does not vanish, so a gradient taken from those velocities
+//! (USL) blows up at cell crossings. We saw exactly that with linear APIC without the remap.
+//!
+//! Node accumulators (`grid::Node`) by phase: after the first p2g, `a` = momentum and
+//! `b` = force; after the grid update, `a` = new velocity and `b` = velocity change; after the
+//! remap, `a` = remapped velocity.
+
+use super::contact::{self, ContactSums};
+use super::grid::{padded_index, Grid, Node, OWNED, PADDED};
+use super::material::to_matrix;
+use super::scene::{Scene, Transfer};
+use super::shape::{Gimp, Linear, Stencil};
+use super::{case::ShapeKind, Real, SolveError};
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// Particles per parallel work item in particle-order passes.
+const CHUNK: usize = 1024;
+
+/// Energy integrals since the start, mJ.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energies {
+    /// ∫ σ:D dV dt: elastic energy plus plastic work.
+    pub internal: Real,
+    pub plastic: Real,
+    /// Work of the plates on the tube.
+    pub external: Real,
+    pub friction: Real,
+}
+
+/// What the last step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepInfo {
+    /// The step taken, ms.
+    pub dt: Real,
+    /// The step the CFL condition allowed (larger than `dt` when a history row was due), ms.
+    pub stable_dt: Real,
+    pub contact: ContactSums,
+    /// Kinetic energy after the step, mJ.
+    pub kinetic: Real,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct ChunkSums {
+    work: Real,
+    plastic: Real,
+    kinetic: Real,
+    signal: Real,
+    bad: Option<(usize, &'static str)>,
+}
+
+/// A scene advancing in time.
+pub struct Simulation {
+    pub scene: Scene,
+    pub grid: Grid,
+    /// Simulated time, ms.
+    pub time: Real,
+    pub steps: u64,
+    pub energy: Energies,
+    /// Largest c + |v| over the particles after the last step, mm/ms.
+    signal: Real,
+    /// Nodes lighter than this carry no velocity (guards divisions by tiny masses), g.
+    mass_floor: Real,
+    chunk_sums: Vec<ChunkSums>,
+    block_sums: Vec<ContactSums>,
+}
+
+impl Simulation {
+    pub fn new(scene: Scene) -> Simulation {
+        let n = scene.particles.len();
+        let mut scene = scene;
+        scene.particles.affine.resize(n, Matrix3::zeros());
+        let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
+        let c = scene.wave_speed();
+        let vmax = scene.particles.v.iter().map(|v| v.norm()).fold(0.0, Real::max);
+        let grid = Grid::new(scene.cell);
+        Simulation {
+            scene,
+            grid,
+            time: 0.0,
+            steps: 0,
+            energy: Energies::default(),
+            signal: c + vmax,
+            mass_floor: 1e-14 * mean_mass,
+            chunk_sums: Vec::new(),
+            block_sums: Vec::new(),
+        }
+    }
+
+    /// The time step the CFL condition allows now, ms.
+    pub fn stable_dt(&self) -> Real {
+        self.scene.cfl * self.scene.cell / self.signal
+    }
+
+    /// Advances one step of at most `dt_cap` ms.
+    pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
+        let stable_dt = self.stable_dt();
+        let dt = stable_dt.min(dt_cap);
+        let mut info = match self.scene.shape {
+            ShapeKind::Linear => self.advance::<Linear>(dt),
+            ShapeKind::Gimp => self.advance::<Gimp>(dt),
+        }?;
+        info.stable_dt = stable_dt;
+        for plate in &mut self.scene.plates {
+            plate.z += plate.velocity * dt;
+        }
+        self.time += dt;
+        self.steps += 1;
+        Ok(info)
+    }
+
+    fn advance<S: Stencil>(&mut self, dt: Real) -> Result<StepInfo, SolveError> {
+        let lp = self.scene.half_size / self.scene.cell;
+        let apic = self.scene.transfer == Transfer::Apic;
+        self.grid.bin::<S>(&self.scene.particles.x, lp);
+        self.p2g::<S>(lp, true);
+        self.grid.reduce(true);
+        let contact = self.grid_update(dt);
+        self.grid.broadcast();
+        self.g2p_velocity::<S>(lp, apic);
+        self.p2g::<S>(lp, false);
+        self.grid.reduce(false);
+        self.remap();
+        self.grid.broadcast();
+        let kinetic = self.g2p_deform::<S>(lp, dt, apic)?;
+        self.energy.external += contact.work;
+        self.energy.friction += contact.friction;
+        Ok(StepInfo { dt, stable_dt: dt, contact, kinetic })
+    }
+
+    /// Particle → grid. With `full`: mass, momentum and internal force; else momentum only.
+    fn p2g<S: Stencil>(&mut self, lp: Real, full: bool) {
+        let mut padded = std::mem::take(&mut self.grid.padded);
+        let p = &self.scene.particles;
+        let g = &self.grid;
+        let (inv, cell, affine) = (g.inv_cell, g.cell, self.scene.transfer == Transfer::Apic);
+        padded.par_chunks_mut(PADDED).enumerate().for_each(|(b, pad)| {
+            for n in pad.iter_mut() {
+                if full {
+                    *n = Node::default();
+                } else {
+                    n.a = [0.0; 3];
+                }
+            }
+            let o = g.padded_origin(b);
+            for &q in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
+                let q = q as usize;
+                let xg = p.x[q] * inv;
+                let (bx, wx, gx) = S::eval(xg.x, lp);
+                let (by, wy, gy) = S::eval(xg.y, lp);
+                let (bz, wz, gz) = S::eval(xg.z, lp);
+                let (ox, oy, oz) = ((bx - o[0]) as usize, (by - o[1]) as usize, (bz - o[2]) as usize);
+                let m = p.mass[q];
+                let mv = p.v[q] * m;
+                let mc = if affine { p.affine[q] * (m * cell) } else { Matrix3::zeros() };
+                let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
+                let mp = m * (p.stress[q][0] + p.stress[q][1] + p.stress[q][2]) / 3.0;
+                for i in 0..S::N {
+                    for j in 0..S::N {
+                        for k in 0..S::N {
+                            let w = wx[i] * wy[j] * wz[k];
+                            let n = &mut pad[padded_index(ox + i, oy + j, oz + k)];
+                            let dx = Vector3::new(
+                                (bx + i as i32) as Real - xg.x,
+                                (by + j as i32) as Real - xg.y,
+                                (bz + k as i32) as Real - xg.z,
+                            );
+                            let mom = (mv + mc * dx) * w;
+                            n.a[0] += mom.x;
+                            n.a[1] += mom.y;
+                            n.a[2] += mom.z;
+                            if full {
+                                n.mass += m * w;
+                                n.pressure += mp * w;
+                                let grad = Vector3::new(gx[i] * wy[j] * wz[k], wx[i] * gy[j] * wz[k], wx[i] * wy[j] * gz[k]);
+                                let f = vs * grad;
+                                n.b[0] -= f.x;
+                                n.b[1] -= f.y;
+                                n.b[2] -= f.z;
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        self.grid.padded = padded;
+    }
+
+    /// Owned nodes: momentum → velocity, add force·dt, apply the plates. Returns contact sums.
+    fn grid_update(&mut self, dt: Real) -> ContactSums {
+        let scene = &self.scene;
+        let floor = self.mass_floor;
+        let zone = scene.cell;
+        let mut owned = std::mem::take(&mut self.grid.owned);
+        let g = &self.grid;
+        self.block_sums.resize(g.len(), ContactSums::default());
+        owned
+            .par_chunks_mut(OWNED)
+            .zip(self.block_sums.par_iter_mut())
+            .enumerate()
+            .for_each(|(b, (own, sums))| {
+                *sums = ContactSums::default();
+                for (local, n) in own.iter_mut().enumerate() {
+                    if n.mass <= floor {
+                        n.a = [0.0; 3];
+                        n.b = [0.0; 3];
+                        n.pressure = 0.0;
+                        continue;
+                    }
+                    n.pressure /= n.mass;
+                    let old = Vector3::from(n.a) / n.mass;
+                    let mut v = old + Vector3::from(n.b) * (dt / n.mass);
+                    let z = g.owned_position(b, local).z;
+                    contact::apply(&scene.plates, zone, scene.friction, z, n.mass, &mut v, Some(sums));
+                    n.a = v.into();
+                    n.b = (v - old).into();
+                }
+            });
+        self.grid.owned = owned;
+        let mut total = ContactSums::default();
+        for s in &self.block_sums {
+            total.add(s);
+        }
+        total
+    }
+
+    /// Owned nodes: remapped momentum → velocity, with the plates applied again (no accounting).
+    fn remap(&mut self) {
+        let scene = &self.scene;
+        let floor = self.mass_floor;
+        let mut owned = std::mem::take(&mut self.grid.owned);
+        let g = &self.grid;
+        owned.par_chunks_mut(OWNED).enumerate().for_each(|(b, own)| {
+            for (local, n) in own.iter_mut().enumerate() {
+                if n.mass <= floor {
+                    n.a = [0.0; 3];
+                    continue;
+                }
+                let mut v = Vector3::from(n.a) / n.mass;
+                let z = g.owned_position(b, local).z;
+                contact::apply(&scene.plates, scene.cell, scene.friction, z, n.mass, &mut v, None);
+                n.a = v.into();
+            }
+        });
+        self.grid.owned = owned;
+    }
+
+    /// Grid → particle velocity: FLIP adds the interpolated velocity change, APIC takes the
+    /// interpolated velocity.
+    fn g2p_velocity<S: Stencil>(&mut self, lp: Real, apic: bool) {
+        let g = &self.grid;
+        let inv = g.inv_cell;
+        let smooth = self.scene.smooth_pressure;
+        let p = &mut self.scene.particles;
+        let x = &p.x;
+        (p.v.par_chunks_mut(CHUNK), p.stress.par_chunks_mut(CHUNK)).into_par_iter().enumerate().for_each(
+            |(c, (vs, ss))| {
+                for (i, (v, s)) in vs.iter_mut().zip(ss.iter_mut()).enumerate() {
+                    let q = c * CHUNK + i;
+                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
+                    let mut dv = Vector3::zeros();
+                    let mut vel = Vector3::zeros();
+                    let mut pressure = 0.0;
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            for k in 0..S::N {
+                                let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
+                                let n = &pad[padded_index(ox + i, oy + j, oz + k)];
+                                dv += Vector3::from(n.b) * w;
+                                vel += Vector3::from(n.a) * w;
+                                pressure += n.pressure * w;
+                            }
+                        }
+                    }
+                    if apic {
+                        *v = vel;
+                    } else {
+                        *v += dv;
+                    }
+                    if smooth {
+                        let shift = pressure - (s[0] + s[1] + s[2]) / 3.0;
+                        s[0] += shift;
+                        s[1] += shift;
+                        s[2] += shift;
+                    }
+                }
+            },
+        );
+    }
+
+    /// Grid → particle deformation: velocity gradient and position from the nodal velocities
+    /// (remapped, for FLIP), then volume and stress; with APIC also the particle velocity and
+    /// its affine part. Finds the next step's signal speed and any particle that went bad.
+    /// Returns the kinetic energy, mJ.
+    fn g2p_deform<S: Stencil>(&mut self, lp: Real, dt: Real, apic: bool) -> Result<Real, SolveError> {
+        let g = &self.grid;
+        let inv = g.inv_cell;
+        let material = self.scene.material;
+        let modulus = material.p_wave_modulus();
+        let domain = self.scene.domain;
+        let p = &mut self.scene.particles;
+        let (mass, yield_scale) = (&p.mass, &p.yield_scale);
+        (
+            p.x.par_chunks_mut(CHUNK),
+            p.v.par_chunks_mut(CHUNK),
+            p.stress.par_chunks_mut(CHUNK),
+            p.vol.par_chunks_mut(CHUNK),
+            p.plastic_strain.par_chunks_mut(CHUNK),
+            p.affine.par_chunks_mut(CHUNK),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, (xs, vs, ss, vols, eps, affs))| {
+                let mut sums = ChunkSums::default();
+                for i in 0..xs.len() {
+                    let q = c * CHUNK + i;
+                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, xs[i] * inv, lp);
+                    let mut l = Matrix3::zeros();
+                    let mut vel = Vector3::zeros();
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            for k in 0..S::N {
+                                let (wx, wy, wz) = (e[0].1[i], e[1].1[j], e[2].1[k]);
+                                let vn = Vector3::from(pad[padded_index(ox + i, oy + j, oz + k)].a);
+                                let grad = Vector3::new(e[0].2[i] * wy * wz, wx * e[1].2[j] * wz, wx * wy * e[2].2[k]);
+                                vel += vn * (wx * wy * wz);
+                                l += vn * grad.transpose();
+                            }
+                        }
+                    }
+                    l *= inv;
+                    xs[i] += vel * dt;
+                    sums.kinetic += 0.5 * mass[q] * vs[i].norm_squared();
+                    let scale = if yield_scale.is_empty() { 1.0 } else { yield_scale[q] };
+                    let inc = material.update(&mut ss[i], &l, dt, scale);
+                    let before = vols[i];
+                    vols[i] *= (Matrix3::identity() + l * dt).determinant();
+                    if apic {
+                        affs[i] = l;
+                    }
+                    sums.work += inc.stress_power * 0.5 * (before + vols[i]) * dt;
+                    if inc.plastic_strain > 0.0 {
+                        eps[i] += inc.plastic_strain;
+                        sums.plastic += material.yield_stress * scale * inc.plastic_strain * vols[i];
+                    }
+                    sums.signal = sums.signal.max((modulus * vols[i] / mass[q]).sqrt() + vs[i].norm());
+                    if sums.bad.is_none() {
+                        sums.bad = diagnose(&xs[i], &ss[i], vols[i], &vs[i], &domain).map(|what| (q, what));
+                    }
+                }
+                sums
+            })
+            .collect_into_vec(&mut self.chunk_sums);
+        let mut signal: Real = 0.0;
+        let mut kinetic = 0.0;
+        for s in &self.chunk_sums {
+            kinetic += s.kinetic;
+            self.energy.internal += s.work;
+            self.energy.plastic += s.plastic;
+            signal = signal.max(s.signal);
+            if let Some((q, what)) = s.bad {
+                let x = self.scene.particles.x[q];
+                return Err(SolveError::Unstable {
+                    step: self.steps + 1,
+                    time_ms: self.time + dt,
+                    what: format!("particle {q} at ({:.4}, {:.4}, {:.4}) mm: {what}", x.x, x.y, x.z),
+                });
+            }
+        }
+        if !signal.is_finite() {
+            return Err(SolveError::Unstable {
+                step: self.steps + 1,
+                time_ms: self.time + dt,
+                what: "signal speed is not finite".into(),
+            });
+        }
+        self.signal = signal;
+        Ok(kinetic)
+    }
+}
+
+/// What is wrong with a particle's state, if anything.
+fn diagnose(
+    x: &Vector3<Real>,
+    s: &[Real; 6],
+    vol: Real,
+    v: &Vector3<Real>,
+    domain: &[[Real; 3]; 2],
+) -> Option<&'static str> {
+    if !(x.iter().all(|c| c.is_finite())) {
+        Some("position is not finite")
+    } else if !(v.iter().all(|c| c.is_finite())) {
+        Some("velocity is not finite")
+    } else if !(s.iter().all(|c| c.is_finite())) {
+        Some("stress is not finite")
+    } else if !(vol.is_finite() && vol > 0.0) {
+        Some("volume is not positive (the material turned inside out)")
+    } else if (0..3).any(|a| x[a] < domain[0][a] || x[a] > domain[1][a]) {
+        Some("left the domain (crossed a plate or flew away)")
+    } else {
+        None
+    }
+}
+
+/// A particle's padded buffer, its stencil's offset in it and the per-axis weights.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn stencil<'a, S: Stencil>(
+    g: &'a Grid,
+    q: usize,
+    xg: Vector3<Real>,
+    lp: Real,
+) -> (&'a [Node], usize, usize, usize, [(i32, [Real; 3], [Real; 3]); 3]) {
+    let b = g.home[q] as usize;
+    let o = g.padded_origin(b);
+    let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
+    (
+        &g.padded[b * PADDED..(b + 1) * PADDED],
+        (e[0].0 - o[0]) as usize,
+        (e[1].0 - o[1]) as usize,
+        (e[2].0 - o[2]) as usize,
+        e,
+    )
+}
