@@ -97,7 +97,7 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     }
     line(
         &mut o,
-        "DeRuntz-Hodge lateral at d=0",
+        "DeRuntz-Hodge lateral, no deflection",
         Some(r.deruntz_hodge_initial_n),
     );
     line(
@@ -109,8 +109,16 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     let _ = writeln!(o);
     let _ = writeln!(
         o,
-        "cost: {} particles, {} steps, dt {} .. {} ms, wall {:.1} s, {:.3e} particle-steps/s on {} threads",
-        c.particles, c.steps, sci(c.dt_min_ms), sci(c.dt_max_ms), c.wall_time_s, c.particle_steps_per_s, c.threads
+        "cost: {} particles, {} steps, dt {} .. {} ms",
+        c.particles,
+        c.steps,
+        sci(c.dt_min_ms),
+        sci(c.dt_max_ms)
+    );
+    let _ = writeln!(
+        o,
+        "      wall {:.1} s, {:.3e} particle-steps/s on {} threads",
+        c.wall_time_s, c.particle_steps_per_s, c.threads
     );
     o
 }
@@ -216,7 +224,7 @@ mod tests {
             text.contains("DeRuntz-Hodge lateral, mean over U           n/a"),
             "{text}"
         );
-        assert!(text.contains("35000 particles, 1000 steps"), "{text}");
+        assert!(text.contains("cost: 35000 particles, 1000 steps"), "{text}");
         assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
     }
 

@@ -201,7 +201,7 @@ fn slice_up(
     let (lo, hi) = pairs().fold((Real::MAX, Real::MIN), |(lo, hi), (p, _)| {
         (lo.min(p[ax]), hi.max(p[ax]))
     });
-    if snapshot.initial_mm.is_empty() || !(hi >= lo) {
+    if snapshot.initial_mm.is_empty() || !(lo.is_finite() && hi.is_finite()) {
         return Vec::new();
     }
     // Two particle layers per slice at least, so that no slice falls between layers.
@@ -210,7 +210,8 @@ fn slice_up(
     let count = ((span / width).floor() as usize + 1).min(MAX_SLICES + 1);
     detail.slice_width_mm = width;
     let mut slices = vec![Slice::default(); count];
-    for (p0, p) in pairs() {
+    // A non-finite coordinate would poison its slice's sums; the solver should never store one.
+    for (p0, p) in pairs().filter(|(p0, p)| p0.iter().chain(p.iter()).all(|v| v.is_finite())) {
         let k = (((p0[ax] - lo) / width) as usize).min(count - 1);
         let s = &mut slices[k];
         let r0 = p0[la].hypot(p0[lb]);
