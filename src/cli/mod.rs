@@ -1,9 +1,59 @@
-//! Command-line runners around the solver (placeholder: being built).
+//! Command-line runners around the solver: `crush run CASE.json` runs one case with a progress
+//! bar, prints a summary and writes `history.csv` and `summary.json`.
+
+mod output;
+mod progress;
+mod report;
+mod run;
+
+pub use output::{write_history_csv, write_summary_json, SummaryFile};
+pub use report::format_report;
+pub use run::run;
+
+use std::path::PathBuf;
 
 /// Arguments of `crush run`.
 #[derive(Debug, Clone, clap::Args)]
-pub struct RunArgs {}
+pub struct RunArgs {
+    /// The crush case, as JSON (see examples/).
+    pub case: PathBuf,
+    /// Where history.csv and summary.json go [default: out/<case file stem>].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Solver threads [default: all cores].
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Refuse cases with more tube particles than this.
+    #[arg(long, default_value_t = crate::solver::Limits::default().max_particles)]
+    pub max_particles: u64,
+}
 
-pub fn run(_args: RunArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not built yet")
+#[cfg(test)]
+mod tests {
+    use crate::solver::{Case, Limits};
+
+    #[test]
+    fn every_example_case_parses() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let mut seen = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "json") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let case = Case::from_json(&text, &Limits::default())
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                assert!(
+                    case.spec().label.is_some(),
+                    "{} has no label",
+                    path.display()
+                );
+                seen += 1;
+            }
+        }
+        assert!(
+            seen >= 7,
+            "found only {seen} example cases in {}",
+            dir.display()
+        );
+    }
 }

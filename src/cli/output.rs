@@ -1,0 +1,110 @@
+//! The files a run leaves behind: `history.csv` (one row per history point, columns
+//! [`HistoryRow::COLUMNS`]) and `summary.json` (the summary plus the mode's diagnostics).
+
+use crate::solver::mode::ModeDetail;
+use crate::solver::{HistoryRow, Summary};
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// What `summary.json` holds: every [`Summary`] field at the top level, the case's label and
+/// the numbers behind the collapse mode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SummaryFile {
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub label: Option<String>,
+    #[serde(flatten)]
+    pub summary: Summary,
+    pub mode_detail: ModeDetail,
+}
+
+/// Writes the history as CSV with a header row.
+pub fn write_history_csv(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
+    let mut w =
+        csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
+    w.write_record(HistoryRow::COLUMNS)?;
+    for row in rows {
+        // `{}` prints the shortest text that reads back as the same f64.
+        w.write_record(row.values().iter().map(|v| v.to_string()))?;
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// Writes the summary as pretty JSON.
+pub fn write_summary_json(path: &Path, file: &SummaryFile) -> anyhow::Result<()> {
+    let text = serde_json::to_string_pretty(file)?;
+    std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::{CollapseMode, RunCost};
+
+    #[test]
+    fn history_csv_has_the_header_and_every_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("history.csv");
+        let rows = [
+            HistoryRow {
+                time_ms: 0.1,
+                displacement_mm: 1.0,
+                load_top_n: 1234.5,
+                ..Default::default()
+            },
+            HistoryRow {
+                time_ms: 0.2,
+                displacement_mm: 2.0,
+                load_top_n: 1e-7,
+                ..Default::default()
+            },
+        ];
+        write_history_csv(&path, &rows).unwrap();
+        let mut r = csv::Reader::from_path(&path).unwrap();
+        assert_eq!(
+            r.headers().unwrap().iter().collect::<Vec<_>>(),
+            HistoryRow::COLUMNS
+        );
+        let back: Vec<Vec<f64>> = r
+            .records()
+            .map(|rec| rec.unwrap().iter().map(|v| v.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(
+            back,
+            rows.iter().map(|r| r.values().to_vec()).collect::<Vec<_>>()
+        );
+    }
+
+    #[test]
+    fn summary_json_keeps_summary_fields_at_the_top() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        let file = SummaryFile {
+            label: Some("t".into()),
+            summary: Summary {
+                mean_load_n: 1.0,
+                peak_load_n: 2.0,
+                energy_absorbed_mj: 3.0,
+                crush_distance_mm: 3.0,
+                folds: 1,
+                energy_balance_error: 0.0,
+                kinetic_to_internal: 0.0,
+                mode: CollapseMode::Diamond { lobes: 3 },
+                references: Default::default(),
+                cost: RunCost::default(),
+            },
+            mode_detail: ModeDetail::default(),
+        };
+        write_summary_json(&path, &file).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(value["mean_load_n"], 1.0);
+        assert_eq!(value["mode"]["lobes"], 3);
+        // The plain Summary reads summary.json too (extra keys are ignored).
+        let plain: Summary = serde_json::from_str(&text).unwrap();
+        assert_eq!(plain, file.summary);
+        assert_eq!(serde_json::from_str::<SummaryFile>(&text).unwrap(), file);
+    }
+}

@@ -1,0 +1,266 @@
+//! The text a finished run prints: loads in kN, energy in J, the collapse mode with its reason,
+//! the closed-form references with the ratio of our mean load to the primary one, and the cost.
+
+use crate::solver::case::LoadingMode;
+use crate::solver::mode::ModeDetail;
+use crate::solver::{Case, CaseError, CollapseMode, Summary};
+use std::fmt::Write;
+
+/// The readable summary of a run.
+pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
+    let spec = case.spec();
+    let r = &s.references;
+    let c = &s.cost;
+    let mut o = String::new();
+    let loading = match spec.loading.mode {
+        LoadingMode::Axial => "axial",
+        LoadingMode::Lateral => "lateral",
+    };
+    // Writing to a String cannot fail; the results are ignored.
+    if let Some(label) = &spec.label {
+        let _ = writeln!(o, "{label}");
+    }
+    let _ = writeln!(
+        o,
+        "tube t {} mm, d {} mm, l {} mm; {loading} crush at {} m/s",
+        spec.tube.thickness_mm,
+        spec.tube.mean_diameter_mm,
+        spec.tube.length_mm,
+        spec.loading.plate_speed_m_s
+    );
+    let _ = writeln!(o);
+    let _ = writeln!(
+        o,
+        "  mean load        {}   ({} x {} {})",
+        kn(s.mean_load_n),
+        ratio(s.mean_load_n, r.primary_n),
+        r.primary.name(),
+        kn(r.primary_n)
+    );
+    let _ = writeln!(o, "  peak load        {}", kn(s.peak_load_n));
+    let _ = writeln!(
+        o,
+        "  energy absorbed  {:.3} J",
+        s.energy_absorbed_mj / 1000.0
+    );
+    let _ = writeln!(o, "  crush distance   {:.2} mm", s.crush_distance_mm);
+    let _ = writeln!(o, "  folds            {}", s.folds);
+    let _ = writeln!(o, "  mode             {}", mode_name(s.mode));
+    let _ = writeln!(o, "                   {}", detail.reason);
+    let amps: Vec<String> = detail
+        .harmonic_amplitude_mm
+        .iter()
+        .map(|a| format!("{a:.2}"))
+        .collect();
+    let _ = writeln!(
+        o,
+        "                   harmonics 0..8 [mm]: {}",
+        amps.join(" ")
+    );
+    let _ = writeln!(
+        o,
+        "                   centre-line drift {:.2} mm (global above {:.2} mm)",
+        detail.max_drift_mm, detail.drift_threshold_mm
+    );
+    let _ = writeln!(
+        o,
+        "  energy balance   {:.2} % error",
+        100.0 * s.energy_balance_error
+    );
+    let _ = writeln!(
+        o,
+        "  E_kin / E_int    {:.2} % at most over the second half",
+        100.0 * s.kinetic_to_internal
+    );
+    let _ = writeln!(o);
+    let _ = writeln!(
+        o,
+        "references                             load          mean / reference"
+    );
+    let line = |o: &mut String, name: &str, load: Option<f64>| {
+        let load_text = load.map_or_else(|| "n/a".to_string(), kn);
+        let ratio_text = load.map_or_else(|| "".to_string(), |p| ratio(s.mean_load_n, p));
+        let _ = writeln!(o, "  {name:<36} {load_text:>11}   {ratio_text}");
+    };
+    line(&mut o, "Alexander ring", Some(r.alexander_ring_n));
+    for d in &r.diamond {
+        line(
+            &mut o,
+            &format!("JSA diamond n={} stationary hinge", d.lobes),
+            Some(d.stationary_n),
+        );
+        line(
+            &mut o,
+            &format!("JSA diamond n={} travelling hinge", d.lobes),
+            Some(d.travelling_n),
+        );
+    }
+    line(
+        &mut o,
+        "DeRuntz-Hodge lateral, no deflection",
+        Some(r.deruntz_hodge_initial_n),
+    );
+    line(
+        &mut o,
+        "DeRuntz-Hodge lateral, mean over U",
+        r.deruntz_hodge_mean_n,
+    );
+    line(&mut o, "Euler, clamped ends", Some(r.euler_clamped_n));
+    let _ = writeln!(o);
+    let _ = writeln!(
+        o,
+        "cost: {} particles, {} steps, dt {} .. {} ms",
+        c.particles,
+        c.steps,
+        sci(c.dt_min_ms),
+        sci(c.dt_max_ms)
+    );
+    let _ = writeln!(
+        o,
+        "      wall {:.1} s, {:.3e} particle-steps/s on {} threads",
+        c.wall_time_s, c.particle_steps_per_s, c.threads
+    );
+    o
+}
+
+/// Every reason a case was rejected, one per line.
+pub fn format_case_error(source: &str, e: &CaseError) -> String {
+    match e {
+        CaseError::Malformed {
+            field: Some(f),
+            message,
+        } => format!("{source}: malformed at {f}: {message}"),
+        CaseError::Malformed {
+            field: None,
+            message,
+        } => format!("{source}: malformed: {message}"),
+        CaseError::Invalid(errors) => {
+            let mut o = format!("{source}: {} field(s) rejected:", errors.len());
+            for f in errors {
+                let _ = write!(o, "\n  {}: {}", f.field, f.reason);
+            }
+            o
+        }
+    }
+}
+
+pub fn mode_name(mode: CollapseMode) -> String {
+    match mode {
+        CollapseMode::Ring => "axisymmetric ring".into(),
+        CollapseMode::Diamond { lobes } => format!("diamond, {lobes} lobes"),
+        CollapseMode::GlobalBuckling => "global (Euler) buckling".into(),
+        CollapseMode::Flattening => "lateral flattening".into(),
+    }
+}
+
+fn kn(n: f64) -> String {
+    format!("{:.3} kN", n / 1000.0)
+}
+
+fn ratio(ours: f64, reference: f64) -> String {
+    if reference > 0.0 && ours.is_finite() {
+        format!("{:.3}", ours / reference)
+    } else {
+        "n/a".into()
+    }
+}
+
+fn sci(v: f64) -> String {
+    format!("{v:.3e}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::reference::references;
+    use crate::solver::{Limits, RunCost};
+
+    fn summary(case: &Case, mean: f64, mode: CollapseMode) -> Summary {
+        Summary {
+            mean_load_n: mean,
+            peak_load_n: 15_200.0,
+            energy_absorbed_mj: mean * 50.0,
+            crush_distance_mm: 50.0,
+            folds: 4,
+            energy_balance_error: 0.0123,
+            kinetic_to_internal: 0.004,
+            mode,
+            references: references(case),
+            cost: RunCost {
+                particles: 35_000,
+                steps: 1000,
+                threads: 2,
+                ..Default::default()
+            },
+        }
+    }
+
+    #[test]
+    fn axial_report_compares_with_alexander() {
+        let case = Case::from_json(r#"{"label": "pvc axial"}"#, &Limits::default()).unwrap();
+        // Alexander is 10 570.7 N; 10 570.7 · 0.9 = 9 513.6 N reads as ratio 0.900.
+        let s = summary(&case, 9_513.6, CollapseMode::Diamond { lobes: 3 });
+        let text = format_report(
+            &case,
+            &s,
+            &ModeDetail {
+                reason: "because".into(),
+                ..Default::default()
+            },
+        );
+        assert!(text.starts_with("pvc axial\n"), "{text}");
+        assert!(
+            text.contains("mean load        9.514 kN   (0.900 x Alexander ring 10.571 kN)"),
+            "{text}"
+        );
+        assert!(text.contains("energy absorbed  475.680 J"), "{text}");
+        assert!(
+            text.contains("mode             diamond, 3 lobes\n                   because"),
+            "{text}"
+        );
+        assert!(text.contains("energy balance   1.23 % error"), "{text}");
+        // A 50 mm axial crush is past d = 22.2 mm: DeRuntz-Hodge's mean does not exist.
+        assert!(
+            text.contains("DeRuntz-Hodge lateral, mean over U           n/a"),
+            "{text}"
+        );
+        assert!(text.contains("cost: 35000 particles, 1000 steps"), "{text}");
+        assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    }
+
+    #[test]
+    fn lateral_report_compares_with_deruntz_hodge() {
+        let case =
+            Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
+        // DeRuntz-Hodge mean over 12.5 mm is 6 401.8 N.
+        let text = format_report(
+            &case,
+            &summary(&case, 6_401.8, CollapseMode::Flattening),
+            &ModeDetail::default(),
+        );
+        assert!(
+            text.contains("(1.000 x DeRuntz-Hodge mean 6.402 kN)"),
+            "{text}"
+        );
+        assert!(text.contains("lateral flattening"), "{text}");
+    }
+
+    #[test]
+    fn every_rejected_field_is_listed() {
+        let err = Case::from_json(
+            r#"{"tube": {"thickness_mm": -1}, "contact": {"friction": 9}}"#,
+            &Limits::default(),
+        )
+        .unwrap_err();
+        let text = format_case_error("bad.json", &err);
+        assert!(text.starts_with("bad.json: 2 field(s) rejected:"), "{text}");
+        assert!(
+            text.contains("\n  tube.thickness_mm: must be a finite number > 0"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\n  contact.friction: must be in [0, 2]"),
+            "{text}"
+        );
+    }
+}

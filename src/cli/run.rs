@@ -1,0 +1,183 @@
+//! `crush run CASE.json`: parse the case, run it on its own rayon pool with a progress bar,
+//! stop cleanly on Ctrl-C, print the summary and write `history.csv` and `summary.json`.
+//!
+//! The summary is recomputed here from the run's history and final shape with
+//! [`summarize`], so what the CLI reports depends only on the solver's outputs, not on how the
+//! engine filled in its own summary; the engine's run cost is kept.
+
+use super::output::{write_history_csv, write_summary_json, SummaryFile};
+use super::progress::{clock, BarObserver};
+use super::report::{format_case_error, format_report};
+use super::RunArgs;
+use crate::solver::mode::detect_mode;
+use crate::solver::summary::summarize;
+use crate::solver::{self, estimate, Case, Limits, RunCost, SolveError};
+use anyhow::{bail, Context};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let source = args.case.display().to_string();
+    let text = std::fs::read_to_string(&args.case).with_context(|| format!("reading {source}"))?;
+    let case = match Case::from_json(
+        &text,
+        &Limits {
+            max_particles: args.max_particles,
+        },
+    ) {
+        Ok(case) => case,
+        Err(e) => {
+            eprintln!("{}", format_case_error(&source, &e));
+            bail!("{source} was rejected");
+        }
+    };
+    let threads = match args.threads {
+        Some(0) => bail!("--threads must be at least 1"),
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&args.case));
+    std::fs::create_dir_all(&out_dir).with_context(|| format!("creating {}", out_dir.display()))?;
+
+    let guess = estimate(&case, threads as u32);
+    eprintln!(
+        "{}: {} particles, about {} steps, {} threads, roughly {} wall time",
+        case.spec().label.as_deref().unwrap_or(&source),
+        guess.particles,
+        guess.steps,
+        threads,
+        clock(guess.wall_time_s)
+    );
+
+    let cancel = Arc::new(AtomicBool::new(false));
+    install_ctrl_c(cancel.clone());
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("crush-{i}"))
+        .build()
+        .context("starting the solver's thread pool")?;
+    let mut observer = BarObserver::new();
+    let start = Instant::now();
+    let result = pool.install(|| solver::run(&case, &mut observer, &cancel));
+    let wall = start.elapsed().as_secs_f64();
+    observer.bar().finish_and_clear();
+
+    let history_path = out_dir.join("history.csv");
+    let output = match result {
+        Ok(output) => output,
+        Err(e) => {
+            // Keep what was computed: the rows reported before the run stopped.
+            write_history_csv(&history_path, &observer.rows)?;
+            eprintln!(
+                "partial history ({} rows) in {}",
+                observer.rows.len(),
+                history_path.display()
+            );
+            return Err(match e {
+                SolveError::Cancelled { step } => anyhow::anyhow!("cancelled at step {step}"),
+                other => anyhow::Error::new(other).context(format!("{source} failed")),
+            });
+        }
+    };
+
+    let cost = complete_cost(output.summary.cost, threads, wall);
+    let summary = summarize(&case, &output.history, &output.snapshot, cost);
+    let (_, mode_detail) = detect_mode(&case, &output.snapshot);
+    print!("{}", format_report(&case, &summary, &mode_detail));
+
+    write_history_csv(&history_path, &output.history)?;
+    let summary_path = out_dir.join("summary.json");
+    let file = SummaryFile {
+        label: case.spec().label.clone(),
+        summary,
+        mode_detail,
+    };
+    write_summary_json(&summary_path, &file)?;
+    eprintln!(
+        "wrote {} and {}",
+        history_path.display(),
+        summary_path.display()
+    );
+    Ok(())
+}
+
+/// `out/<case file stem>`.
+fn default_out_dir(case: &Path) -> PathBuf {
+    let stem = case
+        .file_stem()
+        .map_or_else(|| "case".into(), |s| s.to_string_lossy().into_owned());
+    Path::new("out").join(stem)
+}
+
+/// Fills in what the engine left at zero and the CLI knows: threads, wall time, throughput.
+fn complete_cost(mut cost: RunCost, threads: usize, wall_s: f64) -> RunCost {
+    if cost.threads == 0 {
+        cost.threads = threads as u32;
+    }
+    if cost.wall_time_s <= 0.0 {
+        cost.wall_time_s = wall_s;
+    }
+    if cost.particle_steps_per_s <= 0.0 && cost.wall_time_s > 0.0 {
+        cost.particle_steps_per_s = cost.particles as f64 * cost.steps as f64 / cost.wall_time_s;
+    }
+    cost
+}
+
+/// First Ctrl-C: ask the solver to stop after its current step. Second: quit at once.
+fn install_ctrl_c(cancel: Arc<AtomicBool>) {
+    let presses = AtomicUsize::new(0);
+    let installed = ctrlc::set_handler(move || {
+        if presses.fetch_add(1, Ordering::SeqCst) == 0 {
+            cancel.store(true, Ordering::SeqCst);
+            eprintln!("\nstopping after this step (Ctrl-C again to quit at once)");
+        } else {
+            std::process::exit(130);
+        }
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will not stop the run cleanly: {e}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_defaults_to_out_and_the_case_stem() {
+        assert_eq!(
+            default_out_dir(Path::new("examples/axial_t3.2.json")),
+            Path::new("out/axial_t3.2")
+        );
+        assert_eq!(
+            default_out_dir(Path::new("lateral")),
+            Path::new("out/lateral")
+        );
+    }
+
+    #[test]
+    fn cost_keeps_the_engine_figures_and_fills_the_gaps() {
+        let engine = RunCost {
+            particles: 1000,
+            steps: 200,
+            ..Default::default()
+        };
+        let c = complete_cost(engine, 4, 2.0);
+        assert_eq!(
+            (c.threads, c.wall_time_s, c.particle_steps_per_s),
+            (4, 2.0, 100_000.0)
+        );
+        let engine = RunCost {
+            threads: 2,
+            wall_time_s: 1.0,
+            particle_steps_per_s: 5.0,
+            ..engine
+        };
+        assert_eq!(complete_cost(engine, 4, 2.0), engine);
+    }
+}
