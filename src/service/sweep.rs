@@ -123,7 +123,9 @@ mod tests {
         let params = parameters(&req, 100).unwrap();
         let combos = expand(&req.base, &params).unwrap();
         assert_eq!(combos.len(), 6);
-        assert_eq!(combos[1].case, json!({"tube": {"length_mm": 8, "thickness_mm": 1}, "output": {"history_points": 20}}));
+        // Fields in name order: output.history_points, then tube.thickness_mm (fastest).
+        assert_eq!(params[0].0, "output.history_points");
+        assert_eq!(combos[1].case, json!({"tube": {"length_mm": 8, "thickness_mm": 2}, "output": {"history_points": 10}}));
         assert_eq!(combos[3].values["tube.thickness_mm"], json!(2));
     }
 
