@@ -114,7 +114,7 @@ impl Workers {
                 let p = (*r.latest.lock().unwrap_or_else(|e| e.into_inner()))?;
                 (p.elapsed_s > 0.0).then(|| r.particles as f64 * p.step as f64 / p.elapsed_s)
             })
-            .sum();
+            .fold(0.0, |sum, r| sum + r);
         (running.len(), rate)
     }
 
