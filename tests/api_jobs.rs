@@ -15,7 +15,13 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     let blocker_id = blocker["id"].as_str().unwrap().to_string();
     let mut case = tiny_case();
     case["label"] = json!("sse-test");
-    let r = app.client.post(app.at("/v1/jobs")).json(&case).send().await.unwrap();
+    let r = app
+        .client
+        .post(app.at("/v1/jobs"))
+        .json(&case)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 202);
     let location = r.headers()["location"].to_str().unwrap().to_string();
     let job: Value = r.json().await.unwrap();
@@ -24,17 +30,32 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     assert_eq!(job["status"], "queued");
     assert_eq!(job["case"], case);
 
-    let (status, mut events) = SseReader::open(&app.client, &app.at(&format!("/v1/jobs/{id}/events")), None).await;
+    let (status, mut events) =
+        SseReader::open(&app.client, &app.at(&format!("/v1/jobs/{id}/events")), None).await;
     assert_eq!(status, 200);
-    let first = events.next(Duration::from_secs(10)).await.expect("a first event");
-    assert_eq!((first.event.as_str(), first.json()["status"].as_str()), ("status", Some("queued")));
-    let r = app.client.post(app.at(&format!("/v1/jobs/{blocker_id}/cancel"))).send().await.unwrap();
+    let first = events
+        .next(Duration::from_secs(10))
+        .await
+        .expect("a first event");
+    assert_eq!(
+        (first.event.as_str(), first.json()["status"].as_str()),
+        ("status", Some("queued"))
+    );
+    let r = app
+        .client
+        .post(app.at(&format!("/v1/jobs/{blocker_id}/cancel")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 202);
 
     let mut ids = vec![first.id.unwrap()];
     let mut fractions = Vec::new();
     let last = loop {
-        let e = events.next(Duration::from_secs(60)).await.expect("the stream goes on to the end");
+        let e = events
+            .next(Duration::from_secs(60))
+            .await
+            .expect("the stream goes on to the end");
         ids.push(e.id.expect("every event has an id"));
         match e.event.as_str() {
             "progress" => fractions.push(e.json()["fraction"].as_f64().unwrap()),
@@ -43,22 +64,48 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
         }
     };
     assert_eq!(last.event, "done", "{}", last.data);
-    assert!(events.next(Duration::from_secs(5)).await.is_none(), "the stream ends after done");
-    assert!(ids.windows(2).all(|w| w[0] < w[1]), "event ids increase: {ids:?}");
+    assert!(
+        events.next(Duration::from_secs(5)).await.is_none(),
+        "the stream ends after done"
+    );
+    assert!(
+        ids.windows(2).all(|w| w[0] < w[1]),
+        "event ids increase: {ids:?}"
+    );
     assert!(fractions.len() >= 2, "progress events: {fractions:?}");
-    assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "progress rises: {fractions:?}");
+    assert!(
+        fractions.windows(2).all(|w| w[0] <= w[1]),
+        "progress rises: {fractions:?}"
+    );
     assert!(fractions.last().unwrap() > fractions.first().unwrap());
 
     let job = app.job(&id).await;
     assert_eq!(job["status"], "succeeded");
     assert_eq!(job["attempts"], 1);
-    for key in ["mean_load_n", "peak_load_n", "energy_absorbed_mj", "mode", "cost"] {
-        assert!(!job["summary"][key].is_null(), "summary lacks {key}: {}", job["summary"]);
+    for key in [
+        "mean_load_n",
+        "peak_load_n",
+        "energy_absorbed_mj",
+        "mode",
+        "cost",
+    ] {
+        assert!(
+            !job["summary"][key].is_null(),
+            "summary lacks {key}: {}",
+            job["summary"]
+        );
     }
     let history = get_json(&app.client, &app.at(&format!("/v1/jobs/{id}/history"))).await;
     let rows = history["rows"].as_array().unwrap();
-    assert!((19..=21).contains(&rows.len()), "{} history rows", rows.len());
-    assert_eq!(history["columns"].as_array().unwrap().len(), rows[0].as_array().unwrap().len());
+    assert!(
+        (19..=21).contains(&rows.len()),
+        "{} history rows",
+        rows.len()
+    );
+    assert_eq!(
+        history["columns"].as_array().unwrap().len(),
+        rows[0].as_array().unwrap().len()
+    );
     let csv = app
         .client
         .get(app.at(&format!("/v1/jobs/{id}/history")))
@@ -66,7 +113,10 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
         .send()
         .await
         .unwrap();
-    assert!(csv.headers()["content-type"].to_str().unwrap().starts_with("text/csv"));
+    assert!(csv.headers()["content-type"]
+        .to_str()
+        .unwrap()
+        .starts_with("text/csv"));
     let text = csv.text().await.unwrap();
     assert!(text.starts_with("time_ms,displacement_mm,"), "{text}");
     assert_eq!(text.lines().count(), rows.len() + 1);
@@ -81,26 +131,42 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     // The label filter finds it, and the blocker was cancelled.
     let list = get_json(&app.client, &app.at("/v1/jobs?label=sse-test")).await;
     assert_eq!(list["jobs"].as_array().unwrap().len(), 1);
-    app.wait_for(&blocker_id, &["cancelled"], Duration::from_secs(10)).await;
+    app.wait_for(&blocker_id, &["cancelled"], Duration::from_secs(10))
+        .await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_running_job_is_cancelled_within_a_step() {
     let app = TestApp::start(&["--concurrent-jobs", "1"]).await;
-    let id = app.submit(&long_case()).await["id"].as_str().unwrap().to_string();
-    let (_, mut events) = SseReader::open(&app.client, &app.at(&format!("/v1/jobs/{id}/events")), None).await;
+    let id = app.submit(&long_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let (_, mut events) =
+        SseReader::open(&app.client, &app.at(&format!("/v1/jobs/{id}/events")), None).await;
     loop {
-        let e = events.next(Duration::from_secs(30)).await.expect("the job starts");
+        let e = events
+            .next(Duration::from_secs(30))
+            .await
+            .expect("the job starts");
         if e.event == "progress" {
             break;
         }
     }
-    let r = app.client.post(app.at(&format!("/v1/jobs/{id}/cancel"))).send().await.unwrap();
+    let r = app
+        .client
+        .post(app.at(&format!("/v1/jobs/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 202);
     let body: Value = r.json().await.unwrap();
     assert_eq!(body["cancel_requested"], true);
     let end = loop {
-        let e = events.next(Duration::from_secs(10)).await.expect("the run stops promptly");
+        let e = events
+            .next(Duration::from_secs(10))
+            .await
+            .expect("the run stops promptly");
         if e.event != "progress" {
             break e;
         }
@@ -110,14 +176,32 @@ async fn a_running_job_is_cancelled_within_a_step() {
     assert_eq!(job["status"], "cancelled");
     assert!(job["summary"].is_null());
     // Cancelling again, or asking for a history, conflicts with the finished state.
-    let again = app.client.post(app.at(&format!("/v1/jobs/{id}/cancel"))).send().await.unwrap();
+    let again = app
+        .client
+        .post(app.at(&format!("/v1/jobs/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(again.status(), 409);
-    let history = app.client.get(app.at(&format!("/v1/jobs/{id}/history"))).send().await.unwrap();
+    let history = app
+        .client
+        .get(app.at(&format!("/v1/jobs/{id}/history")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(history.status(), 409);
     // A queued job is cancelled at once.
     let app0 = TestApp::start(&["--concurrent-jobs", "0"]).await;
-    let queued = app0.submit(&tiny_case()).await["id"].as_str().unwrap().to_string();
-    let r = app0.client.post(app0.at(&format!("/v1/jobs/{queued}/cancel"))).send().await.unwrap();
+    let queued = app0.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let r = app0
+        .client
+        .post(app0.at(&format!("/v1/jobs/{queued}/cancel")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 200);
     assert_eq!(r.json::<Value>().await.unwrap()["status"], "cancelled");
 }
@@ -132,10 +216,17 @@ async fn fifty_concurrent_submissions_are_all_accounted_for() {
         tokio::spawn(async move {
             let r = client.post(url).json(&case).send().await.unwrap();
             assert_eq!(r.status(), 202);
-            r.json::<Value>().await.unwrap()["id"].as_str().unwrap().to_string()
+            r.json::<Value>().await.unwrap()["id"]
+                .as_str()
+                .unwrap()
+                .to_string()
         })
     });
-    let submitted: Vec<String> = futures::future::join_all(submits).await.into_iter().map(|r| r.unwrap()).collect();
+    let submitted: Vec<String> = futures::future::join_all(submits)
+        .await
+        .into_iter()
+        .map(|r| r.unwrap())
+        .collect();
     let submitted: HashSet<String> = submitted.into_iter().collect();
     assert_eq!(submitted.len(), 50, "every submit made its own job");
 
@@ -149,7 +240,10 @@ async fn fifty_concurrent_submissions_are_all_accounted_for() {
         }
         let page = get_json(&app.client, &url).await;
         for job in page["jobs"].as_array().unwrap() {
-            assert!(job["attempts"].as_i64().unwrap() <= 1, "claimed twice: {job}");
+            assert!(
+                job["attempts"].as_i64().unwrap() <= 1,
+                "claimed twice: {job}"
+            );
             listed.push(job["id"].as_str().unwrap().to_string());
         }
         match page["next_cursor"].as_str() {
@@ -159,14 +253,26 @@ async fn fifty_concurrent_submissions_are_all_accounted_for() {
     }
     assert_eq!(listed.len(), 50);
     assert_eq!(listed.iter().cloned().collect::<HashSet<_>>(), submitted);
-    let metrics = app.client.get(app.at("/metrics")).send().await.unwrap().text().await.unwrap();
+    let metrics = app
+        .client
+        .get(app.at("/metrics"))
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
     let total: i64 = metrics
         .lines()
         .filter(|l| l.starts_with("crush_jobs{"))
         .map(|l| l.rsplit(' ').next().unwrap().parse::<i64>().unwrap())
         .sum();
     assert_eq!(total, 50, "{metrics}");
-    let running = get_json(&app.client, &app.at("/v1/jobs?status=queued,running,succeeded&limit=500")).await;
+    let running = get_json(
+        &app.client,
+        &app.at("/v1/jobs?status=queued,running,succeeded&limit=500"),
+    )
+    .await;
     assert_eq!(running["jobs"].as_array().unwrap().len(), 50);
 }
 
@@ -174,7 +280,11 @@ async fn fifty_concurrent_submissions_are_all_accounted_for() {
 async fn a_retried_submit_with_an_idempotency_key_returns_the_same_job() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
     let send = |case: Value| {
-        app.client.post(app.at("/v1/jobs")).header("idempotency-key", "run-42").json(&case).send()
+        app.client
+            .post(app.at("/v1/jobs"))
+            .header("idempotency-key", "run-42")
+            .json(&case)
+            .send()
     };
     let first = send(tiny_case()).await.unwrap();
     assert_eq!(first.status(), 202);
@@ -199,7 +309,13 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
         "base": tiny_case(),
         "parameters": {"tube.thickness_mm": [1.27, 2.0, 3.2]}
     });
-    let r = app.client.post(app.at("/v1/sweeps")).json(&body).send().await.unwrap();
+    let r = app
+        .client
+        .post(app.at("/v1/sweeps"))
+        .json(&body)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 202);
     let location = r.headers()["location"].to_str().unwrap().to_string();
     let sweep: Value = r.json().await.unwrap();
@@ -207,31 +323,62 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
     assert_eq!(rows.len(), 3);
     for row in rows {
         let id = row["job_id"].as_str().unwrap();
-        app.wait_for(id, &["succeeded"], Duration::from_secs(60)).await;
+        app.wait_for(id, &["succeeded"], Duration::from_secs(60))
+            .await;
     }
     let table = get_json(&app.client, &app.at(&location)).await;
-    let thicknesses: Vec<f64> =
-        table["rows"].as_array().unwrap().iter().map(|r| r["tube.thickness_mm"].as_f64().unwrap()).collect();
+    let thicknesses: Vec<f64> = table["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["tube.thickness_mm"].as_f64().unwrap())
+        .collect();
     assert_eq!(thicknesses, vec![1.27, 2.0, 3.2]);
     for row in table["rows"].as_array().unwrap() {
         assert_eq!(row["status"], "succeeded");
         assert!(row["mean_load_n"].is_number(), "{row}");
     }
     assert_eq!(table["counts"]["succeeded"], 3);
-    let csv = app.client.get(app.at(&format!("{location}?format=csv"))).send().await.unwrap().text().await.unwrap();
+    let csv = app
+        .client
+        .get(app.at(&format!("{location}?format=csv")))
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 4, "{csv}");
-    assert!(lines[0].starts_with("job_id,tube.thickness_mm,status,mean_load_n"), "{csv}");
+    assert!(
+        lines[0].starts_with("job_id,tube.thickness_mm,status,mean_load_n"),
+        "{csv}"
+    );
     let jobs = get_json(&app.client, &app.at("/v1/jobs?label=thickness")).await;
     assert_eq!(jobs["jobs"].as_array().unwrap().len(), 3);
 
     // One bad combination: no job at all, and the field named with the value that broke it.
     let bad = json!({"base": tiny_case(), "parameters": {"tube.thickness_mm": [2.0, 20.0]}});
-    let r = app.client.post(app.at("/v1/sweeps")).json(&bad).send().await.unwrap();
+    let r = app
+        .client
+        .post(app.at("/v1/sweeps"))
+        .json(&bad)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 422);
     let problem: Value = r.json().await.unwrap();
-    assert_eq!(problem["errors"][0]["field"], "tube.thickness_mm", "{problem}");
-    assert!(problem["errors"][0]["reason"].as_str().unwrap().contains("20"), "{problem}");
+    assert_eq!(
+        problem["errors"][0]["field"], "tube.thickness_mm",
+        "{problem}"
+    );
+    assert!(
+        problem["errors"][0]["reason"]
+            .as_str()
+            .unwrap()
+            .contains("20"),
+        "{problem}"
+    );
     let all = get_json(&app.client, &app.at("/v1/jobs")).await;
     assert_eq!(all["jobs"].as_array().unwrap().len(), 3);
 }
@@ -239,7 +386,13 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_estimate_gives_the_cost_of_a_case() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
-    let r = app.client.post(app.at("/v1/estimate")).json(&tiny_case()).send().await.unwrap();
+    let r = app
+        .client
+        .post(app.at("/v1/estimate"))
+        .json(&tiny_case())
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 200);
     let e: Value = r.json().await.unwrap();
     for key in ["particles", "cells", "steps", "memory_bytes", "wall_time_s"] {
@@ -260,17 +413,30 @@ async fn openapi_describes_exactly_the_routes_the_server_answers() {
             if !["get", "post", "put", "patch", "delete"].contains(&method) {
                 continue;
             }
-            let responses = op["responses"].as_mapping().expect("every operation lists its responses");
+            let responses = op["responses"]
+                .as_mapping()
+                .expect("every operation lists its responses");
             for (code, _) in responses {
-                let code = code.as_str().map(String::from).unwrap_or_else(|| format!("{}", code.as_u64().unwrap()));
-                assert!(code.len() == 3 || code == "default", "{path:?} {method}: response {code}");
+                let code = code
+                    .as_str()
+                    .map(String::from)
+                    .unwrap_or_else(|| format!("{}", code.as_u64().unwrap()));
+                assert!(
+                    code.len() == 3 || code == "default",
+                    "{path:?} {method}: response {code}"
+                );
             }
             documented.insert((method.to_uppercase(), path.as_str().unwrap().to_string()));
         }
     }
-    let served: HashSet<(String, String)> =
-        crush::service::routes().into_iter().map(|(m, p)| (m.to_string(), p.to_string())).collect();
-    assert_eq!(documented, served, "api/openapi.yaml and the router disagree");
+    let served: HashSet<(String, String)> = crush::service::routes()
+        .into_iter()
+        .map(|(m, p)| (m.to_string(), p.to_string()))
+        .collect();
+    assert_eq!(
+        documented, served,
+        "api/openapi.yaml and the router disagree"
+    );
 
     // Every documented operation reaches a handler (an unknown id is a 404 from the handler,
     // not from the router's fallback).
@@ -286,15 +452,28 @@ async fn openapi_describes_exactly_the_routes_the_server_answers() {
         .await
         .unwrap();
         assert_ne!(r.status(), 405, "{method} {path}");
-        let ct = r.headers().get("content-type").map(|v| v.to_str().unwrap().to_string()).unwrap_or_default();
+        let ct = r
+            .headers()
+            .get("content-type")
+            .map(|v| v.to_str().unwrap().to_string())
+            .unwrap_or_default();
         if ct.starts_with("application/problem+json") {
             let p: Value = r.json().await.unwrap();
-            assert_ne!(p["type"], "urn:crush:problem:no-such-route", "{method} {path}");
+            assert_ne!(
+                p["type"], "urn:crush:problem:no-such-route",
+                "{method} {path}"
+            );
         }
     }
     // Schemas named by references exist.
     for cap in text.match_indices("#/components/schemas/") {
-        let name: String = text[cap.0 + cap.1.len()..].chars().take_while(|c| c.is_alphanumeric()).collect();
-        assert!(!doc["components"]["schemas"][name.as_str()].is_null(), "schema {name} is referenced but missing");
+        let name: String = text[cap.0 + cap.1.len()..]
+            .chars()
+            .take_while(|c| c.is_alphanumeric())
+            .collect();
+        assert!(
+            !doc["components"]["schemas"][name.as_str()].is_null(),
+            "schema {name} is referenced but missing"
+        );
     }
 }

@@ -12,7 +12,10 @@ pub const PROBLEM_JSON: &str = "application/problem+json";
 pub enum ApiError {
     /// Malformed JSON, a wrong type, a bad query parameter or header.
     #[error("{detail}")]
-    BadRequest { detail: String, field: Option<String> },
+    BadRequest {
+        detail: String,
+        field: Option<String>,
+    },
     #[error("{what} not found")]
     NotFound { what: String },
     #[error("no route {method} {path}")]
@@ -27,7 +30,10 @@ pub enum ApiError {
     UnsupportedMediaType(String),
     /// Parses, but makes no physical or computational sense: every field named.
     #[error("{detail}")]
-    Unprocessable { detail: String, errors: Vec<FieldError> },
+    Unprocessable {
+        detail: String,
+        errors: Vec<FieldError>,
+    },
     #[error("{detail}")]
     Unavailable { detail: String, retry_after_s: u32 },
     #[error("internal error")]
@@ -50,11 +56,16 @@ struct Problem<'a> {
 
 impl ApiError {
     pub fn bad_request(detail: impl Into<String>, field: Option<&str>) -> ApiError {
-        ApiError::BadRequest { detail: detail.into(), field: field.map(String::from) }
+        ApiError::BadRequest {
+            detail: detail.into(),
+            field: field.map(String::from),
+        }
     }
 
     pub fn job_not_found(id: &str) -> ApiError {
-        ApiError::NotFound { what: format!("job {id}") }
+        ApiError::NotFound {
+            what: format!("job {id}"),
+        }
     }
 
     pub fn internal(e: impl std::error::Error + Send + Sync + 'static) -> ApiError {
@@ -64,30 +75,56 @@ impl ApiError {
     /// Status, problem type and title.
     fn parts(&self) -> (StatusCode, &'static str, &'static str) {
         match self {
-            ApiError::BadRequest { .. } => (StatusCode::BAD_REQUEST, "urn:crush:problem:bad-request", "Bad request"),
-            ApiError::NotFound { .. } => (StatusCode::NOT_FOUND, "urn:crush:problem:not-found", "Not found"),
-            ApiError::NoRoute { .. } => (StatusCode::NOT_FOUND, "urn:crush:problem:no-such-route", "No such route"),
-            ApiError::MethodNotAllowed => {
-                (StatusCode::METHOD_NOT_ALLOWED, "urn:crush:problem:method-not-allowed", "Method not allowed")
-            }
-            ApiError::Conflict { .. } => (StatusCode::CONFLICT, "urn:crush:problem:conflict", "Conflict"),
-            ApiError::TooLarge { .. } => {
-                (StatusCode::PAYLOAD_TOO_LARGE, "urn:crush:problem:too-large", "Request body too large")
-            }
+            ApiError::BadRequest { .. } => (
+                StatusCode::BAD_REQUEST,
+                "urn:crush:problem:bad-request",
+                "Bad request",
+            ),
+            ApiError::NotFound { .. } => (
+                StatusCode::NOT_FOUND,
+                "urn:crush:problem:not-found",
+                "Not found",
+            ),
+            ApiError::NoRoute { .. } => (
+                StatusCode::NOT_FOUND,
+                "urn:crush:problem:no-such-route",
+                "No such route",
+            ),
+            ApiError::MethodNotAllowed => (
+                StatusCode::METHOD_NOT_ALLOWED,
+                "urn:crush:problem:method-not-allowed",
+                "Method not allowed",
+            ),
+            ApiError::Conflict { .. } => (
+                StatusCode::CONFLICT,
+                "urn:crush:problem:conflict",
+                "Conflict",
+            ),
+            ApiError::TooLarge { .. } => (
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "urn:crush:problem:too-large",
+                "Request body too large",
+            ),
             ApiError::UnsupportedMediaType(_) => (
                 StatusCode::UNSUPPORTED_MEDIA_TYPE,
                 "urn:crush:problem:unsupported-media-type",
                 "Unsupported media type",
             ),
-            ApiError::Unprocessable { .. } => {
-                (StatusCode::UNPROCESSABLE_ENTITY, "urn:crush:problem:invalid-case", "Invalid case")
-            }
-            ApiError::Unavailable { .. } => {
-                (StatusCode::SERVICE_UNAVAILABLE, "urn:crush:problem:unavailable", "Service unavailable")
-            }
-            ApiError::Internal(_) => {
-                (StatusCode::INTERNAL_SERVER_ERROR, "urn:crush:problem:internal", "Internal server error")
-            }
+            ApiError::Unprocessable { .. } => (
+                StatusCode::UNPROCESSABLE_ENTITY,
+                "urn:crush:problem:invalid-case",
+                "Invalid case",
+            ),
+            ApiError::Unavailable { .. } => (
+                StatusCode::SERVICE_UNAVAILABLE,
+                "urn:crush:problem:unavailable",
+                "Service unavailable",
+            ),
+            ApiError::Internal(_) => (
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "urn:crush:problem:internal",
+                "Internal server error",
+            ),
         }
     }
 }
@@ -103,7 +140,11 @@ impl From<CaseError> for ApiError {
                 ApiError::BadRequest { detail, field }
             }
             CaseError::Invalid(errors) => ApiError::Unprocessable {
-                detail: errors.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
+                detail: errors
+                    .iter()
+                    .map(|e| e.to_string())
+                    .collect::<Vec<_>>()
+                    .join("; "),
                 errors,
             },
         }
@@ -127,7 +168,14 @@ impl IntoResponse for ApiError {
             ApiError::Unprocessable { errors, .. } => (None, Some(errors.as_slice())),
             _ => (None, None),
         };
-        let body = Problem { kind, title, status: status.as_u16(), detail: self.to_string(), field, errors };
+        let body = Problem {
+            kind,
+            title,
+            status: status.as_u16(),
+            detail: self.to_string(),
+            field,
+            errors,
+        };
         let mut response =
             (status, serde_json::to_string(&body).unwrap_or_default()).into_response();
         let headers = response.headers_mut();

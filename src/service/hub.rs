@@ -53,14 +53,20 @@ pub struct Hub {
 
 impl Hub {
     pub fn new(capacity: usize) -> Arc<Hub> {
-        Arc::new(Hub { channels: Mutex::new(HashMap::new()), capacity: capacity.max(1) })
+        Arc::new(Hub {
+            channels: Mutex::new(HashMap::new()),
+            capacity: capacity.max(1),
+        })
     }
 
     fn channel(&self, id: Uuid) -> Arc<Channel> {
         let mut map = self.channels.lock().unwrap_or_else(|e| e.into_inner());
         map.entry(id)
             .or_insert_with(|| {
-                Arc::new(Channel { tx: broadcast::channel(self.capacity).0, latest: Mutex::new(None) })
+                Arc::new(Channel {
+                    tx: broadcast::channel(self.capacity).0,
+                    latest: Mutex::new(None),
+                })
             })
             .clone()
     }
@@ -78,19 +84,34 @@ impl Hub {
         let ch = self.channel(id);
         let rx = ch.tx.subscribe();
         let latest = ch.latest.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        Subscription { hub: self.clone(), id, ch: Some(ch), rx, latest }
+        Subscription {
+            hub: self.clone(),
+            id,
+            ch: Some(ch),
+            rx,
+            latest,
+        }
     }
 
     /// The sending end for claim `attempt` of a job.
     pub fn publisher(self: &Arc<Self>, id: Uuid, attempt: i64) -> Publisher {
         let ch = self.channel(id);
         *ch.latest.lock().unwrap_or_else(|e| e.into_inner()) = None;
-        Publisher { hub: self.clone(), id, ch: Some(ch), attempt, next: 1 }
+        Publisher {
+            hub: self.clone(),
+            id,
+            ch: Some(ch),
+            attempt,
+            next: 1,
+        }
     }
 
     /// Jobs with a live channel (for tests and metrics).
     pub fn len(&self) -> usize {
-        self.channels.lock().unwrap_or_else(|e| e.into_inner()).len()
+        self.channels
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .len()
     }
 
     pub fn is_empty(&self) -> bool {

@@ -81,12 +81,16 @@ impl ServeArgs {
             #[command(flatten)]
             args: ServeArgs,
         }
-        let argv = std::iter::once(std::ffi::OsString::from("serve")).chain(flags.into_iter().map(Into::into));
+        let argv = std::iter::once(std::ffi::OsString::from("serve"))
+            .chain(flags.into_iter().map(Into::into));
         <Wrapper as clap::Parser>::try_parse_from(argv).map(|w| w.args)
     }
 
     fn seconds(&self, name: &str, v: f64) -> anyhow::Result<Duration> {
-        anyhow::ensure!(v.is_finite() && v > 0.0, "{name} must be a positive number of seconds");
+        anyhow::ensure!(
+            v.is_finite() && v > 0.0,
+            "{name} must be a positive number of seconds"
+        );
         Ok(Duration::from_secs_f64(v))
     }
 }
@@ -160,7 +164,9 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
     let config = WorkerConfig {
         concurrent_jobs: args.concurrent_jobs,
         threads_per_job: threads,
-        limits: crate::solver::Limits { max_particles: args.max_particles },
+        limits: crate::solver::Limits {
+            max_particles: args.max_particles,
+        },
         heartbeat,
         stale_after,
         max_attempts: args.max_attempts,
@@ -192,7 +198,9 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         let until = async move {
             let _ = down.wait_for(|d| *d).await;
         };
-        let served = axum::serve(listener, router).with_graceful_shutdown(until).await;
+        let served = axum::serve(listener, router)
+            .with_graceful_shutdown(until)
+            .await;
         tracing::info!("shutting down: waiting for running jobs");
         drain.drain(grace).await;
         for handle in handles {
@@ -203,7 +211,12 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         served.context("serving HTTP")
     });
     tracing::info!(%addr, threads_per_job = threads, concurrent_jobs = args.concurrent_jobs, "crush listening");
-    Ok(Server { addr, shutdown, workers, task: Some(task) })
+    Ok(Server {
+        addr,
+        shutdown,
+        workers,
+        task: Some(task),
+    })
 }
 
 /// `crush serve`: runs the server until SIGINT or SIGTERM.
@@ -233,13 +246,14 @@ async fn shutdown_signal() {
     let interrupt = tokio::signal::ctrl_c();
     #[cfg(unix)]
     {
-        let mut term = match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(term) => term,
-            Err(_) => {
-                let _ = interrupt.await;
-                return;
-            }
-        };
+        let mut term =
+            match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+                Ok(term) => term,
+                Err(_) => {
+                    let _ = interrupt.await;
+                    return;
+                }
+            };
         tokio::select! {
             _ = interrupt => {}
             _ = term.recv() => {}

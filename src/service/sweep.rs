@@ -29,16 +29,25 @@ pub struct Combination {
 }
 
 /// The parameters as `(field, values)` in column order, checked; or every problem found.
-pub fn parameters(req: &SweepRequest, max_jobs: usize) -> Result<Vec<(String, Vec<Value>)>, Vec<FieldError>> {
+pub fn parameters(
+    req: &SweepRequest,
+    max_jobs: usize,
+) -> Result<Vec<(String, Vec<Value>)>, Vec<FieldError>> {
     let mut errors = Vec::new();
     let mut out = Vec::new();
     if req.parameters.is_empty() {
-        errors.push(fail("parameters", "must name at least one field with a list of values"));
+        errors.push(fail(
+            "parameters",
+            "must name at least one field with a list of values",
+        ));
     }
     for (field, values) in &req.parameters {
         let name = format!("parameters.{field}");
         if field.is_empty() || field.split('.').any(str::is_empty) {
-            errors.push(fail(&name, "must be a dotted path such as tube.thickness_mm"));
+            errors.push(fail(
+                &name,
+                "must be a dotted path such as tube.thickness_mm",
+            ));
             continue;
         }
         match values.as_array() {
@@ -49,7 +58,9 @@ pub fn parameters(req: &SweepRequest, max_jobs: usize) -> Result<Vec<(String, Ve
     if !req.base.is_object() {
         errors.push(fail("base", "must be a case object"));
     }
-    let count = out.iter().fold(1usize, |n, (_, v)| n.saturating_mul(v.len()));
+    let count = out
+        .iter()
+        .fold(1usize, |n, (_, v)| n.saturating_mul(v.len()));
     if count > max_jobs {
         errors.push(fail(
             "parameters",
@@ -64,8 +75,14 @@ pub fn parameters(req: &SweepRequest, max_jobs: usize) -> Result<Vec<(String, Ve
 }
 
 /// Every combination of the parameters applied to `base`.
-pub fn expand(base: &Value, params: &[(String, Vec<Value>)]) -> Result<Vec<Combination>, Vec<FieldError>> {
-    let mut combos = vec![Combination { case: base.clone(), values: Map::new() }];
+pub fn expand(
+    base: &Value,
+    params: &[(String, Vec<Value>)],
+) -> Result<Vec<Combination>, Vec<FieldError>> {
+    let mut combos = vec![Combination {
+        case: base.clone(),
+        values: Map::new(),
+    }];
     for (field, values) in params {
         let mut next = Vec::with_capacity(combos.len() * values.len());
         for combo in &combos {
@@ -89,20 +106,28 @@ fn set(case: &mut Value, path: &str, value: Value) -> Result<(), String> {
     let segments: Vec<&str> = path.split('.').collect();
     for (i, segment) in segments.iter().enumerate() {
         let Some(object) = node.as_object_mut() else {
-            return Err(format!("cannot be set: base.{} is not an object", walked.join(".")));
+            return Err(format!(
+                "cannot be set: base.{} is not an object",
+                walked.join(".")
+            ));
         };
         if i + 1 == segments.len() {
             object.insert(segment.to_string(), value);
             return Ok(());
         }
         walked.push(*segment);
-        node = object.entry(segment.to_string()).or_insert_with(empty_object);
+        node = object
+            .entry(segment.to_string())
+            .or_insert_with(empty_object);
     }
     Ok(())
 }
 
 fn fail(field: &str, reason: &str) -> FieldError {
-    FieldError { field: field.into(), reason: reason.into() }
+    FieldError {
+        field: field.into(),
+        reason: reason.into(),
+    }
 }
 
 #[cfg(test)]
@@ -125,7 +150,10 @@ mod tests {
         assert_eq!(combos.len(), 6);
         // Fields in name order: output.history_points, then tube.thickness_mm (fastest).
         assert_eq!(params[0].0, "output.history_points");
-        assert_eq!(combos[1].case, json!({"tube": {"length_mm": 8, "thickness_mm": 2}, "output": {"history_points": 10}}));
+        assert_eq!(
+            combos[1].case,
+            json!({"tube": {"length_mm": 8, "thickness_mm": 2}, "output": {"history_points": 10}})
+        );
         assert_eq!(combos[3].values["tube.thickness_mm"], json!(2));
     }
 

@@ -12,7 +12,10 @@ use uuid::Uuid;
 pub fn rfc3339(ms: i64) -> String {
     time::OffsetDateTime::from_unix_timestamp_nanos(ms as i128 * 1_000_000)
         .ok()
-        .and_then(|t| t.format(&time::format_description::well_known::Rfc3339).ok())
+        .and_then(|t| {
+            t.format(&time::format_description::well_known::Rfc3339)
+                .ok()
+        })
         .unwrap_or_default()
 }
 
@@ -67,7 +70,11 @@ impl JobView {
             progress: json(r.progress_json.as_deref()),
             error: r.error.clone(),
             sweep_id: r.sweep_id,
-            case: if with_case { json(Some(&r.case_json)) } else { None },
+            case: if with_case {
+                json(Some(&r.case_json))
+            } else {
+                None
+            },
             summary: json(r.summary_json.as_deref()),
             links: JobLinks {
                 events: format!("{base}/events"),
@@ -88,7 +95,11 @@ pub fn final_event(r: &JobRecord) -> Option<Event> {
         Status::Queued | Status::Running => return None,
     };
     let data = serde_json::to_string(&JobView::new(r, false)).unwrap_or_default();
-    Some(Event { id: final_id(r.attempts), name, data })
+    Some(Event {
+        id: final_id(r.attempts),
+        name,
+        data,
+    })
 }
 
 /// The first non-finite number of a run's output, named; `None` when all are finite.
@@ -107,7 +118,9 @@ pub fn non_finite(out: &RunOutput) -> Option<String> {
         ("energy_balance_error", s.energy_balance_error),
         ("wall_time_s", s.cost.wall_time_s),
     ];
-    key.iter().find(|(_, v)| !v.is_finite()).map(|(n, _)| format!("a non-finite {n} in the summary"))
+    key.iter()
+        .find(|(_, v)| !v.is_finite())
+        .map(|(n, _)| format!("a non-finite {n} in the summary"))
 }
 
 /// Key summary numbers of a sweep table, in column order.
@@ -126,7 +139,12 @@ pub const TABLE_NUMBERS: [&str; 9] = [
 fn table_number(summary: &Value, name: &str) -> Value {
     let ptr = match name {
         "mode" => "/mode/kind",
-        "particles" | "steps" | "wall_time_s" => return summary.pointer(&format!("/cost/{name}")).cloned().unwrap_or(Value::Null),
+        "particles" | "steps" | "wall_time_s" => {
+            return summary
+                .pointer(&format!("/cost/{name}"))
+                .cloned()
+                .unwrap_or(Value::Null)
+        }
         _ => return summary.get(name).cloned().unwrap_or(Value::Null),
     };
     summary.pointer(ptr).cloned().unwrap_or(Value::Null)
@@ -150,7 +168,11 @@ impl SweepView {
         let parameters = json(Some(&s.parameters_json)).unwrap_or(Value::Null);
         let fields: Vec<String> = parameters
             .as_array()
-            .map(|a| a.iter().filter_map(|p| p.get(0)?.as_str().map(String::from)).collect())
+            .map(|a| {
+                a.iter()
+                    .filter_map(|p| p.get(0)?.as_str().map(String::from))
+                    .collect()
+            })
             .unwrap_or_default();
         let mut columns = vec!["job_id".to_string()];
         columns.extend(fields.iter().cloned());

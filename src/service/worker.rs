@@ -51,7 +51,12 @@ pub struct Workers {
 }
 
 impl Workers {
-    pub fn new(store: Store, hub: Arc<Hub>, config: WorkerConfig, shutdown: watch::Receiver<bool>) -> Arc<Self> {
+    pub fn new(
+        store: Store,
+        hub: Arc<Hub>,
+        config: WorkerConfig,
+        shutdown: watch::Receiver<bool>,
+    ) -> Arc<Self> {
         Arc::new(Workers {
             store,
             hub,
@@ -74,8 +79,9 @@ impl Workers {
 
     /// Starts the worker loops and the reaper.
     pub fn spawn(self: &Arc<Self>) -> Vec<tokio::task::JoinHandle<()>> {
-        let mut handles: Vec<_> =
-            (0..self.config.concurrent_jobs).map(|_| tokio::spawn(self.clone().work())).collect();
+        let mut handles: Vec<_> = (0..self.config.concurrent_jobs)
+            .map(|_| tokio::spawn(self.clone().work()))
+            .collect();
         handles.push(tokio::spawn(self.clone().reap()));
         handles
     }
@@ -191,7 +197,15 @@ impl Workers {
             .build()
         {
             Ok(pool) => pool,
-            Err(e) => return self.end(&job, Status::Failed, Some(&format!("no solver threads: {e}"))).await,
+            Err(e) => {
+                return self
+                    .end(
+                        &job,
+                        Status::Failed,
+                        Some(&format!("no solver threads: {e}")),
+                    )
+                    .await
+            }
         };
         let running = Arc::new(Running {
             cancel: Arc::new(AtomicBool::new(false)),
@@ -201,11 +215,22 @@ impl Workers {
         });
         self.running().insert(id, running.clone());
         let mut publisher = self.hub.publisher(id, job.attempt);
-        publisher.send("status", serde_json::json!({"status": "running", "attempt": job.attempt}).to_string());
-        let mut observer = JobObserver { publisher, latest: running.latest.clone() };
+        publisher.send(
+            "status",
+            serde_json::json!({"status": "running", "attempt": job.attempt}).to_string(),
+        );
+        let mut observer = JobObserver {
+            publisher,
+            latest: running.latest.clone(),
+        };
         tracing::info!(job = %id, attempt = job.attempt, particles = running.particles, "job started");
 
-        let heartbeat = tokio::spawn(heartbeat(self.store.clone(), job.clone(), running.clone(), self.config.heartbeat));
+        let heartbeat = tokio::spawn(heartbeat(
+            self.store.clone(),
+            job.clone(),
+            running.clone(),
+            self.config.heartbeat,
+        ));
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
             let out = pool.install(|| solver::run(&case, &mut observer, &cancel));
@@ -218,16 +243,31 @@ impl Workers {
 
         let (status, error, observer) = match result {
             Ok((Ok(out), observer)) => match views::non_finite(&out) {
-                Some(what) => (Status::Failed, Some(format!("the solver returned {what}")), Some(observer)),
+                Some(what) => (
+                    Status::Failed,
+                    Some(format!("the solver returned {what}")),
+                    Some(observer),
+                ),
                 None => {
                     let stored = self
                         .store
-                        .finish_succeeded(id, job.lease, &out.history, &out.summary, progress_json.as_deref())
+                        .finish_succeeded(
+                            id,
+                            job.lease,
+                            &out.history,
+                            &out.summary,
+                            progress_json.as_deref(),
+                        )
                         .await;
                     match stored {
                         Ok(true) => {
-                            let steps = out.summary.cost.steps.saturating_mul(out.summary.cost.particles);
-                            self.particle_steps_total.fetch_add(steps, Ordering::Relaxed);
+                            let steps = out
+                                .summary
+                                .cost
+                                .steps
+                                .saturating_mul(out.summary.cost.particles);
+                            self.particle_steps_total
+                                .fetch_add(steps, Ordering::Relaxed);
                             tracing::info!(job = %id, "job succeeded");
                         }
                         Ok(false) => tracing::warn!(job = %id, "lease lost: result dropped"),
@@ -249,15 +289,24 @@ impl Workers {
                     if matches!(self.store.requeue(id, job.lease).await, Ok(true)) {
                         tracing::info!(job = %id, step, "job interrupted: requeued");
                         let mut p = observer.publisher;
-                        p.send("status", serde_json::json!({"status": "queued"}).to_string());
+                        p.send(
+                            "status",
+                            serde_json::json!({"status": "queued"}).to_string(),
+                        );
                     }
                     return;
                 }
             }
-            Ok((Err(e @ SolveError::Unstable { .. }), observer)) => (Status::Failed, Some(e.to_string()), Some(observer)),
+            Ok((Err(e @ SolveError::Unstable { .. }), observer)) => {
+                (Status::Failed, Some(e.to_string()), Some(observer))
+            }
             Err(panic) => {
                 tracing::error!(job = %id, error = %panic, "the solver panicked");
-                (Status::Failed, Some("the solver stopped with an internal error".to_string()), None)
+                (
+                    Status::Failed,
+                    Some("the solver stopped with an internal error".to_string()),
+                    None,
+                )
             }
         };
         self.running().remove(&id);
@@ -269,7 +318,11 @@ impl Workers {
 
     /// Stores a failed or cancelled outcome.
     async fn end(&self, job: &Claimed, status: Status, error: Option<&str>) {
-        match self.store.finish_unsuccessful(job.id, job.lease, status, error).await {
+        match self
+            .store
+            .finish_unsuccessful(job.id, job.lease, status, error)
+            .await
+        {
             Ok(true) => tracing::info!(job = %job.id, status = status.as_str(), error, "job ended"),
             Ok(false) => tracing::warn!(job = %job.id, "lease lost: outcome dropped"),
             Err(e) => tracing::error!(job = %job.id, error = %e, "storing the outcome failed"),
@@ -296,7 +349,14 @@ async fn heartbeat(store: Store, job: Claimed, running: Arc<Running>, every: Dur
         tick.tick().await;
         let latest = *running.latest.lock().unwrap_or_else(|e| e.into_inner());
         let json = latest.map(|p| (serde_json::to_string(&p).unwrap_or_default(), p.fraction));
-        match store.heartbeat(job.id, job.lease, json.as_ref().map(|(j, f)| (j.as_str(), *f))).await {
+        match store
+            .heartbeat(
+                job.id,
+                job.lease,
+                json.as_ref().map(|(j, f)| (j.as_str(), *f)),
+            )
+            .await
+        {
             Ok(Some(true)) => {
                 running.user_cancel.store(true, Ordering::Relaxed);
                 running.cancel.store(true, Ordering::Relaxed);

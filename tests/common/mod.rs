@@ -41,7 +41,10 @@ pub fn long_case() -> Value {
 }
 
 pub fn client() -> reqwest::Client {
-    reqwest::Client::builder().timeout(Duration::from_secs(30)).build().unwrap()
+    reqwest::Client::builder()
+        .timeout(Duration::from_secs(30))
+        .build()
+        .unwrap()
 }
 
 /// An in-process server on 127.0.0.1:0 with a fresh database.
@@ -56,11 +59,23 @@ impl TestApp {
     pub async fn start(flags: &[&str]) -> TestApp {
         let dir = tempfile::tempdir().unwrap();
         let db = database_url(dir.path());
-        let mut all = vec!["--port", "0", "--database-url", db.as_str(), "--threads-per-job", "1"];
+        let mut all = vec![
+            "--port",
+            "0",
+            "--database-url",
+            db.as_str(),
+            "--threads-per-job",
+            "1",
+        ];
         all.extend_from_slice(flags);
         let args = crush::service::ServeArgs::from_flags(all).unwrap();
         let server = crush::service::start(args).await.unwrap();
-        TestApp { url: format!("http://{}", server.addr), client: client(), server: Some(server), dir }
+        TestApp {
+            url: format!("http://{}", server.addr),
+            client: client(),
+            server: Some(server),
+            dir,
+        }
     }
 
     pub fn at(&self, path: &str) -> String {
@@ -69,7 +84,13 @@ impl TestApp {
 
     /// Submits a case; panics unless it is accepted.
     pub async fn submit(&self, case: &Value) -> Value {
-        let r = self.client.post(self.at("/v1/jobs")).json(case).send().await.unwrap();
+        let r = self
+            .client
+            .post(self.at("/v1/jobs"))
+            .json(case)
+            .send()
+            .await
+            .unwrap();
         assert_eq!(r.status(), 202, "{}", r.text().await.unwrap());
         r.json().await.unwrap()
     }
@@ -94,14 +115,23 @@ pub async fn get_json(client: &reqwest::Client, url: &str) -> Value {
     r.json().await.unwrap()
 }
 
-pub async fn wait_for(client: &reqwest::Client, base: &str, id: &str, wanted: &[&str], timeout: Duration) -> Value {
+pub async fn wait_for(
+    client: &reqwest::Client,
+    base: &str,
+    id: &str,
+    wanted: &[&str],
+    timeout: Duration,
+) -> Value {
     let start = Instant::now();
     loop {
         let job = get_json(client, &format!("{base}/v1/jobs/{id}")).await;
         if wanted.contains(&job["status"].as_str().unwrap_or("")) {
             return job;
         }
-        assert!(start.elapsed() < timeout, "job {id} not {wanted:?} after {timeout:?}: {job}");
+        assert!(
+            start.elapsed() < timeout,
+            "job {id} not {wanted:?} after {timeout:?}: {job}"
+        );
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
 }
@@ -127,14 +157,27 @@ pub struct SseReader {
 }
 
 impl SseReader {
-    pub async fn open(client: &reqwest::Client, url: &str, last_event_id: Option<u64>) -> (reqwest::StatusCode, SseReader) {
-        let mut req = client.get(url).header("accept", "text/event-stream").timeout(Duration::from_secs(120));
+    pub async fn open(
+        client: &reqwest::Client,
+        url: &str,
+        last_event_id: Option<u64>,
+    ) -> (reqwest::StatusCode, SseReader) {
+        let mut req = client
+            .get(url)
+            .header("accept", "text/event-stream")
+            .timeout(Duration::from_secs(120));
         if let Some(id) = last_event_id {
             req = req.header("last-event-id", id.to_string());
         }
         let r = req.send().await.unwrap();
         let status = r.status();
-        (status, SseReader { stream: r.bytes_stream().boxed(), buffer: String::new() })
+        (
+            status,
+            SseReader {
+                stream: r.bytes_stream().boxed(),
+                buffer: String::new(),
+            },
+        )
     }
 
     /// The next event (comments skipped); `None` when the stream ends or `timeout` passes.
@@ -143,7 +186,11 @@ impl SseReader {
         loop {
             while let Some(end) = self.buffer.find("\n\n") {
                 let block: String = self.buffer.drain(..end + 2).collect();
-                let mut event = SseEvent { id: None, event: "message".into(), data: String::new() };
+                let mut event = SseEvent {
+                    id: None,
+                    event: "message".into(),
+                    data: String::new(),
+                };
                 let mut any = false;
                 for line in block.lines() {
                     if let Some(v) = line.strip_prefix("id:") {
@@ -179,7 +226,15 @@ impl Child {
     /// Starts `crush serve --port 0` on the database and reads the bound address it prints.
     pub fn start(db: &str, flags: &[&str]) -> Child {
         let mut process = std::process::Command::new(env!("CARGO_BIN_EXE_crush"))
-            .args(["serve", "--port", "0", "--database-url", db, "--threads-per-job", "1"])
+            .args([
+                "serve",
+                "--port",
+                "0",
+                "--database-url",
+                db,
+                "--threads-per-job",
+                "1",
+            ])
             .args(flags)
             .env("RUST_LOG", "warn")
             .stdout(Stdio::piped())
@@ -188,7 +243,10 @@ impl Child {
             .expect("the crush binary starts");
         let stdout = process.stdout.take().unwrap();
         let mut lines = BufReader::new(stdout).lines();
-        let line = lines.next().expect("the server prints its address").unwrap();
+        let line = lines
+            .next()
+            .expect("the server prints its address")
+            .unwrap();
         let url = line.rsplit(' ').next().unwrap().trim().to_string();
         assert!(url.starts_with("http://"), "unexpected first line {line:?}");
         // Keep draining stdout so the server never blocks on a full pipe.

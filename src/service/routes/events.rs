@@ -31,7 +31,11 @@ pub async fn events(
         .and_then(|v| v.trim().parse::<u64>().ok());
     // Listen before reading the state, so that nothing falls between the two.
     let sub = s.hub.subscribe(uuid);
-    let record = s.store.job(uuid).await?.ok_or_else(|| ApiError::job_not_found(&id))?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
     let mut pending = VecDeque::new();
     if let Some(event) = final_event(&record) {
         if last_seen.is_some_and(|l| l >= event.id) {
@@ -39,10 +43,14 @@ pub async fn events(
         }
         pending.push_back(event);
     } else {
-        let permit = s.sse_permits.clone().try_acquire_owned().map_err(|_| ApiError::Unavailable {
-            detail: "too many open event streams; try again later".into(),
-            retry_after_s: 5,
-        })?;
+        let permit =
+            s.sse_permits
+                .clone()
+                .try_acquire_owned()
+                .map_err(|_| ApiError::Unavailable {
+                    detail: "too many open event streams; try again later".into(),
+                    retry_after_s: 5,
+                })?;
         pending.push_back(snapshot(record.status, record.attempts));
         if record.status == Status::Running {
             pending.extend(sub.latest.clone());
@@ -58,8 +66,12 @@ pub async fn events(
             poll: tokio::time::interval(s.limits.sse_poll),
             _permit: permit,
         };
-        let keep_alive = KeepAlive::new().interval(s.limits.keep_alive).text("keep-alive");
-        return Ok(Sse::new(live.into_stream()).keep_alive(keep_alive).into_response());
+        let keep_alive = KeepAlive::new()
+            .interval(s.limits.keep_alive)
+            .text("keep-alive");
+        return Ok(Sse::new(live.into_stream())
+            .keep_alive(keep_alive)
+            .into_response());
     }
     let stream = stream::iter(pending.into_iter().map(|e| Ok::<_, Infallible>(to_sse(&e))));
     Ok(Sse::new(stream).into_response())
@@ -68,11 +80,18 @@ pub async fn events(
 /// The state event a stream opens with.
 fn snapshot(status: Status, attempts: i64) -> Event {
     let data = serde_json::json!({ "status": status, "attempt": attempts }).to_string();
-    Event { id: event_id(attempts, 0), name: "status", data }
+    Event {
+        id: event_id(attempts, 0),
+        name: "status",
+        data,
+    }
 }
 
 fn to_sse(e: &Event) -> sse::Event {
-    sse::Event::default().id(e.id.to_string()).event(e.name).data(&e.data)
+    sse::Event::default()
+        .id(e.id.to_string())
+        .event(e.name)
+        .data(&e.data)
 }
 
 /// A stream following a job that has not finished.

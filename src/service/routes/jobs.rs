@@ -19,10 +19,19 @@ const DEFAULT_PAGE: u32 = 50;
 const MAX_PAGE: u32 = 500;
 
 /// Case JSON text → a job ready to insert, or every reason it is not a case.
-pub(crate) fn prepare(text: &str, limits: &HttpLimits, key: Option<String>) -> Result<NewJob, ApiError> {
+pub(crate) fn prepare(
+    text: &str,
+    limits: &HttpLimits,
+    key: Option<String>,
+) -> Result<NewJob, ApiError> {
     let spec = spec_from_json(text)?;
     let label = spec.label.clone();
-    let case = Case::parse(spec, &Limits { max_particles: limits.max_particles })?;
+    let case = Case::parse(
+        spec,
+        &Limits {
+            max_particles: limits.max_particles,
+        },
+    )?;
     // Stored as submitted, in a canonical form so that a retried submit compares equal.
     let value: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| ApiError::bad_request(format!("malformed JSON: {e}"), None))?;
@@ -36,9 +45,14 @@ pub(crate) fn prepare(text: &str, limits: &HttpLimits, key: Option<String>) -> R
 }
 
 fn idempotency_key(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
-    let Some(value) = headers.get("idempotency-key") else { return Ok(None) };
+    let Some(value) = headers.get("idempotency-key") else {
+        return Ok(None);
+    };
     let key = value.to_str().map_err(|_| {
-        ApiError::bad_request("Idempotency-Key must be visible ASCII", Some("Idempotency-Key"))
+        ApiError::bad_request(
+            "Idempotency-Key must be visible ASCII",
+            Some("Idempotency-Key"),
+        )
     })?;
     let key = key.trim().trim_matches('"');
     if key.is_empty() || key.chars().count() > MAX_KEY_CHARS {
@@ -53,9 +67,17 @@ fn idempotency_key(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
 /// `202 Accepted` with `Location` and the job.
 fn accepted(view: JobView, replayed: bool) -> Response {
     let location = view.links.this.clone();
-    let mut response = (StatusCode::ACCEPTED, [(header::LOCATION, location)], Json(view)).into_response();
+    let mut response = (
+        StatusCode::ACCEPTED,
+        [(header::LOCATION, location)],
+        Json(view),
+    )
+        .into_response();
     if replayed {
-        response.headers_mut().insert("idempotent-replayed", header::HeaderValue::from_static("true"));
+        response.headers_mut().insert(
+            "idempotent-replayed",
+            header::HeaderValue::from_static("true"),
+        );
     }
     response
 }
@@ -96,12 +118,23 @@ pub struct ListParams {
     cursor: Option<String>,
 }
 
-pub async fn list(State(s): State<AppState>, Query(p): Query<ListParams>) -> Result<Response, ApiError> {
+pub async fn list(
+    State(s): State<AppState>,
+    Query(p): Query<ListParams>,
+) -> Result<Response, ApiError> {
     let mut statuses = Vec::new();
-    for name in p.status.iter().flat_map(|s| s.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
+    for name in p
+        .status
+        .iter()
+        .flat_map(|s| s.split(','))
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+    {
         let status = Status::parse(name).ok_or_else(|| {
             ApiError::bad_request(
-                format!("status {name:?} is not one of queued, running, succeeded, failed, cancelled"),
+                format!(
+                    "status {name:?} is not one of queued, running, succeeded, failed, cancelled"
+                ),
                 Some("status"),
             )
         })?;
@@ -109,9 +142,16 @@ pub async fn list(State(s): State<AppState>, Query(p): Query<ListParams>) -> Res
     }
     let limit = match p.limit.as_deref() {
         None => DEFAULT_PAGE,
-        Some(l) => l.parse::<u32>().ok().filter(|l| (1..=MAX_PAGE).contains(l)).ok_or_else(|| {
-            ApiError::bad_request(format!("limit must be an integer in [1, {MAX_PAGE}]"), Some("limit"))
-        })?,
+        Some(l) => l
+            .parse::<u32>()
+            .ok()
+            .filter(|l| (1..=MAX_PAGE).contains(l))
+            .ok_or_else(|| {
+                ApiError::bad_request(
+                    format!("limit must be an integer in [1, {MAX_PAGE}]"),
+                    Some("limit"),
+                )
+            })?,
     };
     let before = match p.cursor.as_deref() {
         None | Some("") => None,
@@ -119,7 +159,12 @@ pub async fn list(State(s): State<AppState>, Query(p): Query<ListParams>) -> Res
             ApiError::bad_request("cursor is not one this server gave out", Some("cursor"))
         })?),
     };
-    let filter = ListFilter { statuses, label: p.label, before, limit: limit + 1 };
+    let filter = ListFilter {
+        statuses,
+        label: p.label,
+        before,
+        limit: limit + 1,
+    };
     let mut records = s.store.list(&filter).await?;
     let next_cursor = if records.len() > limit as usize {
         records.truncate(limit as usize);
@@ -131,20 +176,35 @@ pub async fn list(State(s): State<AppState>, Query(p): Query<ListParams>) -> Res
     Ok(Json(serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor })).into_response())
 }
 
-pub async fn get(State(s): State<AppState>, Path(id): Path<String>) -> Result<Json<JobView>, ApiError> {
+pub async fn get(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<JobView>, ApiError> {
     let uuid = parse_id(&id, "job")?;
-    let record = s.store.job(uuid).await?.ok_or_else(|| ApiError::job_not_found(&id))?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
     Ok(Json(JobView::new(&record, true)))
 }
 
-pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> Result<Response, ApiError> {
+pub async fn cancel(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Response, ApiError> {
     let uuid = parse_id(&id, "job")?;
     match s.store.cancel(uuid).await? {
         CancelOutcome::NotFound => Err(ApiError::job_not_found(&id)),
         CancelOutcome::Finished(status) => Err(ApiError::Conflict {
-            detail: format!("job {id} is already {}; only a queued or running job can be cancelled", status.as_str()),
+            detail: format!(
+                "job {id} is already {}; only a queued or running job can be cancelled",
+                status.as_str()
+            ),
         }),
-        CancelOutcome::Cancelled(r) => Ok((StatusCode::OK, Json(JobView::new(&r, false))).into_response()),
+        CancelOutcome::Cancelled(r) => {
+            Ok((StatusCode::OK, Json(JobView::new(&r, false))).into_response())
+        }
         CancelOutcome::Requested(r) => {
             s.workers.cancel(uuid);
             Ok((StatusCode::ACCEPTED, Json(JobView::new(&r, false))).into_response())
@@ -165,7 +225,11 @@ pub async fn history(
 ) -> Result<Response, ApiError> {
     let uuid = parse_id(&id, "job")?;
     let csv = wants_csv(&headers, q.format.as_deref())?;
-    let record = s.store.job(uuid).await?.ok_or_else(|| ApiError::job_not_found(&id))?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
     if record.status != Status::Succeeded {
         return Err(ApiError::Conflict {
             detail: format!(

@@ -16,7 +16,10 @@ use std::sync::atomic::Ordering;
 pub async fn healthz(State(s): State<AppState>) -> Result<Response, ApiError> {
     s.store.ping().await.map_err(|e| {
         tracing::error!(error = %e, "health check: the database does not answer");
-        ApiError::Unavailable { detail: "the database does not answer".into(), retry_after_s: 5 }
+        ApiError::Unavailable {
+            detail: "the database does not answer".into(),
+            retry_after_s: 5,
+        }
     })?;
     Ok(Json(serde_json::json!({ "status": "ok" })).into_response())
 }
@@ -26,20 +29,40 @@ pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
     let (running_here, rate) = s.workers.load();
     let sse_open = s.limits_sse_open();
     let mut out = String::new();
-    let _ = writeln!(out, "# HELP crush_jobs Jobs in the store, by status.\n# TYPE crush_jobs gauge");
+    let _ = writeln!(
+        out,
+        "# HELP crush_jobs Jobs in the store, by status.\n# TYPE crush_jobs gauge"
+    );
     for status in Status::ALL {
-        let n = counts.iter().find(|(st, _)| *st == status).map_or(0, |(_, n)| *n);
+        let n = counts
+            .iter()
+            .find(|(st, _)| *st == status)
+            .map_or(0, |(_, n)| *n);
         let _ = writeln!(out, "crush_jobs{{status=\"{}\"}} {n}", status.as_str());
     }
-    let queued = counts.iter().find(|(st, _)| *st == Status::Queued).map_or(0, |(_, n)| *n);
+    let queued = counts
+        .iter()
+        .find(|(st, _)| *st == Status::Queued)
+        .map_or(0, |(_, n)| *n);
     let gauges = [
         ("crush_queue_depth", "Jobs waiting to run.", queued as f64),
-        ("crush_running_jobs", "Jobs running in this process.", running_here as f64),
-        ("crush_particle_steps_per_second", "Current solver throughput of this process.", rate),
+        (
+            "crush_running_jobs",
+            "Jobs running in this process.",
+            running_here as f64,
+        ),
+        (
+            "crush_particle_steps_per_second",
+            "Current solver throughput of this process.",
+            rate,
+        ),
         ("crush_sse_clients", "Open event streams.", sse_open as f64),
     ];
     for (name, help, value) in gauges {
-        let _ = writeln!(out, "# HELP {name} {help}\n# TYPE {name} gauge\n{name} {value}");
+        let _ = writeln!(
+            out,
+            "# HELP {name} {help}\n# TYPE {name} gauge\n{name} {value}"
+        );
     }
     let total = s.workers.particle_steps_total.load(Ordering::Relaxed);
     let _ = writeln!(
@@ -47,12 +70,21 @@ pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
         "# HELP crush_particle_steps_total Particle-steps of the runs this process finished.\n\
          # TYPE crush_particle_steps_total counter\ncrush_particle_steps_total {total}"
     );
-    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")], out).into_response())
+    Ok((
+        [(
+            header::CONTENT_TYPE,
+            "text/plain; version=0.0.4; charset=utf-8",
+        )],
+        out,
+    )
+        .into_response())
 }
 
 impl AppState {
     fn limits_sse_open(&self) -> usize {
-        self.limits.max_sse_clients.saturating_sub(self.sse_permits.available_permits())
+        self.limits
+            .max_sse_clients
+            .saturating_sub(self.sse_permits.available_permits())
     }
 }
 
@@ -63,6 +95,14 @@ pub async fn estimate(
 ) -> Result<Json<Estimate>, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let spec = spec_from_json(&text)?;
-    let case = Case::parse(spec, &Limits { max_particles: s.limits.max_particles })?;
-    Ok(Json(solver_estimate(&case, s.workers.threads_per_job() as u32)))
+    let case = Case::parse(
+        spec,
+        &Limits {
+            max_particles: s.limits.max_particles,
+        },
+    )?;
+    Ok(Json(solver_estimate(
+        &case,
+        s.workers.threads_per_job() as u32,
+    )))
 }

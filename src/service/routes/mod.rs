@@ -86,7 +86,10 @@ pub fn app(state: AppState) -> Router {
 }
 
 async fn no_route(request: Request) -> ApiError {
-    ApiError::NoRoute { method: request.method().to_string(), path: request.uri().path().to_string() }
+    ApiError::NoRoute {
+        method: request.method().to_string(),
+        path: request.uri().path().to_string(),
+    }
 }
 
 /// Turns any error response not already a problem (axum's own rejections, 405) into one.
@@ -147,12 +150,20 @@ pub(crate) fn wants_csv(headers: &HeaderMap, format: Option<&str>) -> Result<boo
         Some("csv") => return Ok(true),
         Some("json") => return Ok(false),
         Some(other) => {
-            return Err(ApiError::bad_request(format!("format must be csv or json, not {other:?}"), Some("format")))
+            return Err(ApiError::bad_request(
+                format!("format must be csv or json, not {other:?}"),
+                Some("format"),
+            ))
         }
         None => {}
     }
-    let accept = headers.get(header::ACCEPT).and_then(|v| v.to_str().ok()).unwrap_or("");
-    Ok(accept.split(',').any(|m| m.split(';').next().unwrap_or("").trim() == "text/csv"))
+    let accept = headers
+        .get(header::ACCEPT)
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("");
+    Ok(accept
+        .split(',')
+        .any(|m| m.split(';').next().unwrap_or("").trim() == "text/csv"))
 }
 
 /// A CSV response.
@@ -160,7 +171,10 @@ pub(crate) fn csv_response(text: String, filename: &str) -> Response {
     (
         [
             (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_string()),
-            (header::CONTENT_DISPOSITION, format!("inline; filename=\"{filename}\"")),
+            (
+                header::CONTENT_DISPOSITION,
+                format!("inline; filename=\"{filename}\""),
+            ),
         ],
         text,
     )
@@ -169,5 +183,7 @@ pub(crate) fn csv_response(text: String, filename: &str) -> Response {
 
 /// A path id: a UUID, or the thing is not found.
 pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
-    uuid::Uuid::parse_str(raw).map_err(|_| ApiError::NotFound { what: format!("{what} {raw}") })
+    uuid::Uuid::parse_str(raw).map_err(|_| ApiError::NotFound {
+        what: format!("{what} {raw}"),
+    })
 }

@@ -28,12 +28,17 @@ pub async fn create(
     let req: SweepRequest = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let field = (path != "." && !path.is_empty()).then_some(path);
-        ApiError::BadRequest { detail: format!("malformed sweep: {}", e.inner()), field }
+        ApiError::BadRequest {
+            detail: format!("malformed sweep: {}", e.inner()),
+            field,
+        }
     })?;
     let params = parameters(&req, s.limits.max_sweep_jobs).map_err(unprocessable)?;
     let mut base = req.base.clone();
     if let (Some(label), Some(object)) = (&req.label, base.as_object_mut()) {
-        object.entry("label").or_insert_with(|| Value::String(label.clone()));
+        object
+            .entry("label")
+            .or_insert_with(|| Value::String(label.clone()));
     }
     let combos = expand(&base, &params).map_err(unprocessable)?;
 
@@ -41,11 +46,19 @@ pub async fn create(
     let mut jobs = Vec::with_capacity(combos.len());
     let mut errors: Vec<FieldError> = Vec::new();
     for combo in &combos {
-        let at = combo.values.iter().map(|(f, v)| format!("{f} = {v}")).collect::<Vec<_>>().join(", ");
+        let at = combo
+            .values
+            .iter()
+            .map(|(f, v)| format!("{f} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ");
         match prepare(&combo.case.to_string(), &s.limits, None) {
             Ok(job) => jobs.push((job, Value::Object(combo.values.clone()).to_string())),
             Err(ApiError::Unprocessable { errors: found, .. }) => {
-                errors.extend(found.into_iter().map(|e| FieldError { reason: format!("{} (with {at})", e.reason), ..e }))
+                errors.extend(found.into_iter().map(|e| FieldError {
+                    reason: format!("{} (with {at})", e.reason),
+                    ..e
+                }))
             }
             Err(ApiError::BadRequest { detail, field }) => errors.push(FieldError {
                 field: field.unwrap_or_else(|| "base".into()),
@@ -57,18 +70,36 @@ pub async fn create(
     if !errors.is_empty() {
         return Err(unprocessable(errors));
     }
-    let parameters_json =
-        Value::Array(params.iter().map(|(f, v)| serde_json::json!([f, v])).collect()).to_string();
-    let sweep = NewSweep { id: Uuid::new_v4(), label: req.label, base_json: req.base.to_string(), parameters_json, jobs };
+    let parameters_json = Value::Array(
+        params
+            .iter()
+            .map(|(f, v)| serde_json::json!([f, v]))
+            .collect(),
+    )
+    .to_string();
+    let sweep = NewSweep {
+        id: Uuid::new_v4(),
+        label: req.label,
+        base_json: req.base.to_string(),
+        parameters_json,
+        jobs,
+    };
     match s.store.create_sweep(sweep, s.limits.max_queue).await? {
         SweepSubmitted::Created(record, jobs) => {
             s.workers.notify();
             let view = SweepView::new(&record, &jobs);
             let location = format!("/v1/sweeps/{}", record.id);
-            Ok((StatusCode::ACCEPTED, [(header::LOCATION, location)], Json(view)).into_response())
+            Ok((
+                StatusCode::ACCEPTED,
+                [(header::LOCATION, location)],
+                Json(view),
+            )
+                .into_response())
         }
         SweepSubmitted::QueueFull { depth } => Err(ApiError::Unavailable {
-            detail: format!("the queue has no room for this sweep ({depth} jobs waiting); try again later"),
+            detail: format!(
+                "the queue has no room for this sweep ({depth} jobs waiting); try again later"
+            ),
             retry_after_s: 10,
         }),
     }
@@ -82,7 +113,11 @@ fn unprocessable(errors: Vec<FieldError>) -> ApiError {
         }
     }
     ApiError::Unprocessable {
-        detail: unique.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "),
+        detail: unique
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("; "),
         errors: unique,
     }
 }
@@ -100,8 +135,13 @@ pub async fn get(
 ) -> Result<Response, ApiError> {
     let uuid = parse_id(&id, "sweep")?;
     let csv = wants_csv(&headers, q.format.as_deref())?;
-    let (record, jobs) =
-        s.store.sweep(uuid).await?.ok_or_else(|| ApiError::NotFound { what: format!("sweep {id}") })?;
+    let (record, jobs) = s
+        .store
+        .sweep(uuid)
+        .await?
+        .ok_or_else(|| ApiError::NotFound {
+            what: format!("sweep {id}"),
+        })?;
     let view = SweepView::new(&record, &jobs);
     if csv {
         let text = view.csv().map_err(ApiError::internal)?;

@@ -26,7 +26,9 @@ pub enum Submitted {
     /// The idempotency key was seen before with a different case.
     KeyReused,
     /// The queue already holds `depth` jobs.
-    QueueFull { depth: i64 },
+    QueueFull {
+        depth: i64,
+    },
 }
 
 /// Which jobs to list: newest first, `seq < before`.
@@ -67,7 +69,9 @@ impl Store {
                 }
                 let id = super::parse_uuid(&id)?;
                 let record = self.job(id).await?;
-                return Ok(record.map(Submitted::Replayed).unwrap_or(Submitted::KeyReused));
+                return Ok(record
+                    .map(Submitted::Replayed)
+                    .unwrap_or(Submitted::KeyReused));
             }
         }
         let depth = queue_depth(&mut tx).await?;
@@ -77,12 +81,17 @@ impl Store {
         insert_job(&mut tx, &job, None).await?;
         tx.commit().await?;
         let record = self.job(job.id).await?;
-        record.map(Submitted::Created).ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))
+        record
+            .map(Submitted::Created)
+            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))
     }
 
     pub async fn job(&self, id: Uuid) -> Result<Option<JobRecord>> {
         let sql = format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.id = ?");
-        let row = sqlx::query(&sql).bind(id.to_string()).fetch_optional(&self.pool).await?;
+        let row = sqlx::query(&sql)
+            .bind(id.to_string())
+            .fetch_optional(&self.pool)
+            .await?;
         row.as_ref().map(job_from_row).transpose()
     }
 
@@ -105,7 +114,8 @@ impl Store {
         if let Some(before) = filter.before {
             q.push(" AND j.seq < ").push_bind(before);
         }
-        q.push(" ORDER BY j.seq DESC LIMIT ").push_bind(filter.limit as i64);
+        q.push(" ORDER BY j.seq DESC LIMIT ")
+            .push_bind(filter.limit as i64);
         let rows = q.build().fetch_all(&self.pool).await?;
         rows.iter().map(job_from_row).collect()
     }
@@ -142,7 +152,10 @@ impl Store {
             done => return Ok(CancelOutcome::Finished(done)),
         };
         tx.commit().await?;
-        let record = self.job(id).await?.ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))?;
+        let record = self
+            .job(id)
+            .await?
+            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))?;
         Ok(if outcome == Status::Cancelled {
             CancelOutcome::Cancelled(record)
         } else {
@@ -156,11 +169,16 @@ impl Store {
             "SELECT {} FROM history WHERE job_id = ? ORDER BY row",
             HistoryRow::COLUMNS.join(", ")
         );
-        let rows = sqlx::query(&sql).bind(id.to_string()).fetch_all(&self.pool).await?;
+        let rows = sqlx::query(&sql)
+            .bind(id.to_string())
+            .fetch_all(&self.pool)
+            .await?;
         rows.iter()
             .map(|row| {
                 use sqlx::Row;
-                (0..HistoryRow::COLUMNS.len()).map(|i| Ok(row.try_get::<f64, _>(i)?)).collect()
+                (0..HistoryRow::COLUMNS.len())
+                    .map(|i| Ok(row.try_get::<f64, _>(i)?))
+                    .collect()
             })
             .collect()
     }

@@ -30,7 +30,9 @@ pub struct SweepRecord {
 pub enum SweepSubmitted {
     Created(SweepRecord, Vec<JobRecord>),
     /// The queue holds `depth` jobs; the sweep's would pass the limit.
-    QueueFull { depth: i64 },
+    QueueFull {
+        depth: i64,
+    },
 }
 
 impl Store {
@@ -56,8 +58,10 @@ impl Store {
             insert_job(&mut tx, job, Some((sweep.id, index as i64, values))).await?;
         }
         tx.commit().await?;
-        let (record, jobs) =
-            self.sweep(sweep.id).await?.ok_or_else(|| StoreError::Corrupt("lost a sweep".into()))?;
+        let (record, jobs) = self
+            .sweep(sweep.id)
+            .await?
+            .ok_or_else(|| StoreError::Corrupt("lost a sweep".into()))?;
         Ok(SweepSubmitted::Created(record, jobs))
     }
 
@@ -72,10 +76,23 @@ impl Store {
         let Some((_, created_at, label, base_json, parameters_json)) = row else {
             return Ok(None);
         };
-        let sql =
-            format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.sweep_id = ? ORDER BY j.sweep_index");
-        let rows = sqlx::query(&sql).bind(id.to_string()).fetch_all(&self.pool).await?;
+        let sql = format!(
+            "SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.sweep_id = ? ORDER BY j.sweep_index"
+        );
+        let rows = sqlx::query(&sql)
+            .bind(id.to_string())
+            .fetch_all(&self.pool)
+            .await?;
         let jobs = rows.iter().map(job_from_row).collect::<Result<Vec<_>>>()?;
-        Ok(Some((SweepRecord { id, created_at, label, base_json, parameters_json }, jobs)))
+        Ok(Some((
+            SweepRecord {
+                id,
+                created_at,
+                label,
+                base_json,
+                parameters_json,
+            },
+            jobs,
+        )))
     }
 }

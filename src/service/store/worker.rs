@@ -50,7 +50,12 @@ impl Store {
         .await?;
         tx.commit().await?;
         row.map(|(id, case_json, attempt)| {
-            Ok(Claimed { id: super::parse_uuid(&id)?, case_json, attempt, lease })
+            Ok(Claimed {
+                id: super::parse_uuid(&id)?,
+                case_json,
+                attempt,
+                lease,
+            })
         })
         .transpose()
     }
@@ -92,23 +97,38 @@ impl Store {
     ) -> Result<bool> {
         let summary_value = serde_json::to_value(summary)
             .map_err(|e| super::StoreError::Corrupt(format!("summary: {e}")))?;
-        let num = |ptr: &str| summary_value.pointer(ptr).and_then(|v| v.as_f64()).unwrap_or(0.0);
-        let mode = summary_value.pointer("/mode/kind").and_then(|v| v.as_str()).unwrap_or("unknown");
+        let num = |ptr: &str| {
+            summary_value
+                .pointer(ptr)
+                .and_then(|v| v.as_f64())
+                .unwrap_or(0.0)
+        };
+        let mode = summary_value
+            .pointer("/mode/kind")
+            .and_then(|v| v.as_str())
+            .unwrap_or("unknown");
         let mut tx = self.write().await?;
         if !holds(&mut tx, id, lease).await? {
             return Ok(false);
         }
         let job = id.to_string();
         // A retried job starts from nothing: no row of an earlier attempt survives.
-        sqlx::query("DELETE FROM history WHERE job_id = ?").bind(&job).execute(&mut *tx).await?;
-        sqlx::query("DELETE FROM summaries WHERE job_id = ?").bind(&job).execute(&mut *tx).await?;
+        sqlx::query("DELETE FROM history WHERE job_id = ?")
+            .bind(&job)
+            .execute(&mut *tx)
+            .await?;
+        sqlx::query("DELETE FROM summaries WHERE job_id = ?")
+            .bind(&job)
+            .execute(&mut *tx)
+            .await?;
         for (chunk_no, chunk) in history.chunks(HISTORY_CHUNK).enumerate() {
             let mut q = sqlx::QueryBuilder::<Sqlite>::new(format!(
                 "INSERT INTO history (job_id, row, {}) ",
                 HistoryRow::COLUMNS.join(", ")
             ));
             q.push_values(chunk.iter().enumerate(), |mut b, (i, row)| {
-                b.push_bind(&job).push_bind((chunk_no * HISTORY_CHUNK + i) as i64);
+                b.push_bind(&job)
+                    .push_bind((chunk_no * HISTORY_CHUNK + i) as i64);
                 for v in row.values() {
                     b.push_bind(v);
                 }
@@ -229,7 +249,11 @@ impl Store {
         .fetch_all(&mut *tx)
         .await?;
         tx.commit().await?;
-        Ok(Reaped { requeued: ids(requeued)?, failed: ids(failed)?, cancelled: ids(cancelled)? })
+        Ok(Reaped {
+            requeued: ids(requeued)?,
+            failed: ids(failed)?,
+            cancelled: ids(cancelled)?,
+        })
     }
 }
 
@@ -277,7 +301,10 @@ mod tests {
         // Heartbeat older than "now": the reaper puts it back.
         let reaped = store.reap_stale(-1000, 2).await.unwrap();
         assert_eq!(reaped.requeued, vec![j.id]);
-        assert_eq!(store.heartbeat(j.id, first.lease, None).await.unwrap(), None);
+        assert_eq!(
+            store.heartbeat(j.id, first.lease, None).await.unwrap(),
+            None
+        );
         let summary_free = store
             .finish_unsuccessful(j.id, first.lease, Status::Failed, Some("x"))
             .await
@@ -296,7 +323,10 @@ mod tests {
     fn history_columns_match_the_migration() {
         let sql = include_str!("../../../migrations/0001_jobs.sql");
         for c in HistoryRow::COLUMNS {
-            assert!(sql.contains(&format!("    {c} ")), "history column {c} missing from the migration");
+            assert!(
+                sql.contains(&format!("    {c} ")),
+                "history column {c} missing from the migration"
+            );
         }
     }
 }
