@@ -142,17 +142,30 @@ async fn a_running_job_is_cancelled_within_a_step() {
         .as_str()
         .unwrap()
         .to_string();
-    let (_, mut events) =
-        SseReader::open(&app.client, &app.at(&format!("/v1/jobs/{id}/events")), None).await;
-    loop {
+    let events_url = app.at(&format!("/v1/jobs/{id}/events"));
+    let (_, mut events) = SseReader::open(&app.client, &events_url, None).await;
+    let seen = loop {
         let e = events
             .next(Duration::from_secs(30))
             .await
             .expect("the job starts");
         if e.event == "progress" {
-            break;
+            break e.id.unwrap();
         }
-    }
+    };
+    // A client that reconnects with Last-Event-ID is sent only newer events.
+    let (status, mut resumed) = SseReader::open(&app.client, &events_url, Some(seen)).await;
+    assert_eq!(status, 200);
+    let next = resumed
+        .next(Duration::from_secs(10))
+        .await
+        .expect("the stream goes on");
+    assert!(
+        next.id.unwrap() > seen,
+        "resumed at {:?} after {seen}",
+        next.id
+    );
+    drop(resumed);
     let r = app
         .client
         .post(app.at(&format!("/v1/jobs/{id}/cancel")))
