@@ -24,7 +24,7 @@ pub enum ApiError {
     MethodNotAllowed,
     #[error("{detail}")]
     Conflict { detail: String },
-    #[error("the request body is larger than {limit} bytes")]
+    #[error("{}", too_large(*limit))]
     TooLarge { limit: usize },
     #[error("unsupported content type {0:?}; send application/json")]
     UnsupportedMediaType(String),
@@ -38,6 +38,13 @@ pub enum ApiError {
     Unavailable { detail: String, retry_after_s: u32 },
     #[error("internal error")]
     Internal(#[source] Box<dyn std::error::Error + Send + Sync>),
+}
+
+fn too_large(limit: usize) -> String {
+    match limit {
+        0 => "the request body is too large".into(),
+        n => format!("the request body is larger than {n} bytes"),
+    }
 }
 
 /// The problem document (RFC 9457) with our two extension members.
