@@ -1,9 +1,266 @@
-//! The HTTP job service (placeholder: being built).
+//! The HTTP job service around the solver: routes ([`app`]), the job store (all SQL), the
+//! worker pool, the progress hub and SSE. `crush serve` calls [`serve`]; tests call [`start`].
 
-/// Configuration of `crush serve`.
+mod error;
+pub mod hub;
+mod routes;
+pub mod store;
+mod sweep;
+mod views;
+mod worker;
+
+pub use error::ApiError;
+pub use routes::{app, routes, AppState, HttpLimits};
+pub use worker::{WorkerConfig, Workers};
+
+use anyhow::Context;
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::sync::{watch, Semaphore};
+
+/// Configuration of `crush serve`: flags, each also read from the environment.
 #[derive(Debug, Clone, clap::Args)]
-pub struct ServeArgs {}
+pub struct ServeArgs {
+    /// Address to listen on (0.0.0.0 for every interface).
+    #[arg(long, env = "CRUSH_HOST", default_value = "127.0.0.1")]
+    pub host: String,
+    /// Port to listen on; 0 picks a free one. The bound address is printed on stdout.
+    #[arg(long, env = "CRUSH_PORT", default_value_t = 8080)]
+    pub port: u16,
+    /// SQLite database; the file is created if missing.
+    #[arg(long, env = "DATABASE_URL", default_value = "sqlite://crush.db")]
+    pub database_url: String,
+    /// Jobs run at the same time by this process (0: accept and serve jobs, run none).
+    #[arg(long, env = "CRUSH_CONCURRENT_JOBS", default_value_t = 1)]
+    pub concurrent_jobs: usize,
+    /// Solver threads of each job (0: the machine's cores divided among the concurrent jobs).
+    #[arg(long, env = "CRUSH_THREADS_PER_JOB", default_value_t = 0)]
+    pub threads_per_job: usize,
+    /// Largest request body, bytes.
+    #[arg(long, env = "CRUSH_MAX_BODY_BYTES", default_value_t = 1 << 20)]
+    pub max_body_bytes: usize,
+    /// Largest case, particles.
+    #[arg(long, env = "CRUSH_MAX_PARTICLES", default_value_t = 5_000_000)]
+    pub max_particles: u64,
+    /// Most jobs waiting in the queue; a submit beyond it gets 503.
+    #[arg(long, env = "CRUSH_MAX_QUEUE", default_value_t = 1000)]
+    pub max_queue: u64,
+    /// Most event streams open at once; one more gets 503.
+    #[arg(long, env = "CRUSH_MAX_SSE_CLIENTS", default_value_t = 256)]
+    pub max_sse_clients: usize,
+    /// Most jobs one sweep may create.
+    #[arg(long, env = "CRUSH_MAX_SWEEP_JOBS", default_value_t = 100)]
+    pub max_sweep_jobs: usize,
+    /// Heartbeat of a running job, which also stores its progress, ms.
+    #[arg(long, env = "CRUSH_HEARTBEAT_MS", default_value_t = 1000)]
+    pub heartbeat_ms: u64,
+    /// A running job whose heartbeat is older than this goes back to the queue, s.
+    #[arg(long, env = "CRUSH_STALE_AFTER_S", default_value_t = 30.0)]
+    pub stale_after_s: f64,
+    /// Times a job's worker may be lost before the job is failed.
+    #[arg(long, env = "CRUSH_MAX_ATTEMPTS", default_value_t = 3)]
+    pub max_attempts: u32,
+    /// On SIGINT/SIGTERM, how long running jobs may finish before they are requeued, s.
+    #[arg(long, env = "CRUSH_SHUTDOWN_GRACE_S", default_value_t = 10.0)]
+    pub shutdown_grace_s: f64,
+    /// Interval of keep-alive comments on event streams, s.
+    #[arg(long, env = "CRUSH_SSE_KEEP_ALIVE_S", default_value_t = 15.0)]
+    pub sse_keep_alive_s: f64,
+}
 
-pub async fn serve(_args: ServeArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not built yet")
+impl ServeArgs {
+    /// Parses flags as `crush serve` would (the environment fills what they omit).
+    pub fn from_flags<I, T>(flags: I) -> Result<ServeArgs, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString> + Clone,
+    {
+        #[derive(clap::Parser)]
+        struct Wrapper {
+            #[command(flatten)]
+            args: ServeArgs,
+        }
+        let argv = std::iter::once(std::ffi::OsString::from("serve"))
+            .chain(flags.into_iter().map(Into::into));
+        <Wrapper as clap::Parser>::try_parse_from(argv).map(|w| w.args)
+    }
+
+    fn seconds(&self, name: &str, v: f64) -> anyhow::Result<Duration> {
+        anyhow::ensure!(
+            v.is_finite() && v > 0.0,
+            "{name} must be a positive number of seconds"
+        );
+        Ok(Duration::from_secs_f64(v))
+    }
+}
+
+/// A running server.
+pub struct Server {
+    /// The address it listens on.
+    pub addr: SocketAddr,
+    shutdown: watch::Sender<bool>,
+    workers: Arc<Workers>,
+    task: Option<tokio::task::JoinHandle<anyhow::Result<()>>>,
+}
+
+impl Server {
+    /// A handle that starts the graceful shutdown when sent `true`.
+    pub fn trigger(&self) -> watch::Sender<bool> {
+        self.shutdown.clone()
+    }
+
+    /// Runs until shut down.
+    pub async fn wait(mut self) -> anyhow::Result<()> {
+        match self.task.take() {
+            Some(task) => task.await.context("the server task failed")?,
+            None => Ok(()),
+        }
+    }
+
+    /// Shuts down gracefully and waits for it.
+    pub async fn stop(self) -> anyhow::Result<()> {
+        let _ = self.shutdown.send(true);
+        self.wait().await
+    }
+}
+
+impl Drop for Server {
+    /// A server dropped without `stop` still stops its solvers, so no blocking thread outlives it.
+    fn drop(&mut self) {
+        let _ = self.shutdown.send(true);
+        if self.task.is_some() {
+            self.workers.stop_all();
+        }
+    }
+}
+
+/// Opens the store, binds, starts the workers and serves until the trigger fires.
+pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
+    let stale_after = args.seconds("--stale-after-s", args.stale_after_s)?;
+    let grace = args.seconds("--shutdown-grace-s", args.shutdown_grace_s)?;
+    let keep_alive = args.seconds("--sse-keep-alive-s", args.sse_keep_alive_s)?;
+    let heartbeat = Duration::from_millis(args.heartbeat_ms.max(1));
+    anyhow::ensure!(
+        stale_after >= heartbeat * 2,
+        "--stale-after-s must be at least two heartbeats (--heartbeat-ms)"
+    );
+    anyhow::ensure!(args.max_attempts >= 1, "--max-attempts must be at least 1");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = match args.threads_per_job {
+        0 => (cores / args.concurrent_jobs.max(1)).max(1),
+        n => n,
+    };
+    let store = store::Store::open(&args.database_url)
+        .await
+        .with_context(|| format!("opening the database {}", args.database_url))?;
+    let listener = tokio::net::TcpListener::bind((args.host.as_str(), args.port))
+        .await
+        .with_context(|| format!("binding {}:{}", args.host, args.port))?;
+    let addr = listener.local_addr()?;
+
+    let (shutdown, shutdown_rx) = watch::channel(false);
+    let hub = hub::Hub::new(1024);
+    let config = WorkerConfig {
+        concurrent_jobs: args.concurrent_jobs,
+        threads_per_job: threads,
+        limits: crate::solver::Limits {
+            max_particles: args.max_particles,
+        },
+        heartbeat,
+        stale_after,
+        max_attempts: args.max_attempts,
+        poll: Duration::from_millis(500),
+    };
+    let workers = Workers::new(store.clone(), hub.clone(), config, shutdown_rx.clone());
+    let limits = HttpLimits {
+        max_body_bytes: args.max_body_bytes,
+        max_particles: args.max_particles,
+        max_queue: args.max_queue,
+        max_sweep_jobs: args.max_sweep_jobs,
+        max_sse_clients: args.max_sse_clients,
+        keep_alive,
+        sse_poll: Duration::from_secs(2),
+    };
+    let state = AppState {
+        store: store.clone(),
+        hub,
+        workers: workers.clone(),
+        limits: Arc::new(limits),
+        sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
+        shutdown: shutdown_rx.clone(),
+    };
+    let handles = workers.spawn();
+    let router = app(state);
+    let drain = workers.clone();
+    let mut down = shutdown_rx;
+    let task = tokio::spawn(async move {
+        let until = async move {
+            let _ = down.wait_for(|d| *d).await;
+        };
+        let served = axum::serve(listener, router)
+            .with_graceful_shutdown(until)
+            .await;
+        tracing::info!("shutting down: waiting for running jobs");
+        drain.drain(grace).await;
+        for handle in handles {
+            let _ = tokio::time::timeout(Duration::from_secs(5), handle).await;
+        }
+        store.close().await;
+        tracing::info!("stopped");
+        served.context("serving HTTP")
+    });
+    tracing::info!(%addr, threads_per_job = threads, concurrent_jobs = args.concurrent_jobs, "crush listening");
+    Ok(Server {
+        addr,
+        shutdown,
+        workers,
+        task: Some(task),
+    })
+}
+
+/// `crush serve`: runs the server until SIGINT or SIGTERM.
+pub async fn serve(args: ServeArgs) -> anyhow::Result<()> {
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .try_init();
+    let server = start(args).await?;
+    // Scripts and tests read the port from this line when they asked for port 0.
+    println!("crush listening on http://{}", server.addr);
+    use std::io::Write;
+    let _ = std::io::stdout().flush();
+    let trigger = server.trigger();
+    tokio::spawn(async move {
+        shutdown_signal().await;
+        tracing::info!("signal received");
+        let _ = trigger.send(true);
+    });
+    server.wait().await
+}
+
+async fn shutdown_signal() {
+    let interrupt = tokio::signal::ctrl_c();
+    #[cfg(unix)]
+    {
+        let mut term =
+            match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+                Ok(term) => term,
+                Err(_) => {
+                    let _ = interrupt.await;
+                    return;
+                }
+            };
+        tokio::select! {
+            _ = interrupt => {}
+            _ = term.recv() => {}
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = interrupt.await;
+    }
 }

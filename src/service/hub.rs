@@ -1,0 +1,220 @@
+//! The progress hub: one `tokio::sync::broadcast` channel per job that has a worker or a
+//! listener, fed from the solver thread without blocking, read by the SSE streams.
+//!
+//! Event ids increase over a job's whole life, across restarts: an event of claim `a` has id
+//! `a · SPAN + k` with `k` counting within the claim, and a job's final event has the largest id
+//! its last claim can have. A client resuming with `Last-Event-ID` is sent only newer events.
+
+use crate::solver::{Observer, Progress};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+use tokio::sync::broadcast;
+use uuid::Uuid;
+
+/// Ids available to one claim of a job.
+pub const SPAN: u64 = 1_000_000;
+
+/// Id of the `k`-th event of claim `attempt`.
+pub fn event_id(attempt: i64, k: u64) -> u64 {
+    attempt.max(0) as u64 * SPAN + k.min(SPAN - 2)
+}
+
+/// Id of the final event of a job whose last claim was `attempt`.
+pub fn final_id(attempt: i64) -> u64 {
+    attempt.max(0) as u64 * SPAN + SPAN - 1
+}
+
+/// One server-sent event: its id, its `event:` name and its JSON data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    pub id: u64,
+    pub name: &'static str,
+    pub data: String,
+}
+
+impl Event {
+    /// `done`, `failed` or `cancelled`: the stream ends after it.
+    pub fn is_final(&self) -> bool {
+        matches!(self.name, "done" | "failed" | "cancelled")
+    }
+}
+
+struct Channel {
+    tx: broadcast::Sender<Event>,
+    /// The last event sent, for a client that joins mid-run.
+    latest: Mutex<Option<Event>>,
+}
+
+/// All live channels, by job.
+pub struct Hub {
+    channels: Mutex<HashMap<Uuid, Arc<Channel>>>,
+    capacity: usize,
+}
+
+impl Hub {
+    pub fn new(capacity: usize) -> Arc<Hub> {
+        Arc::new(Hub {
+            channels: Mutex::new(HashMap::new()),
+            capacity: capacity.max(1),
+        })
+    }
+
+    fn channel(&self, id: Uuid) -> Arc<Channel> {
+        let mut map = self.channels.lock().unwrap_or_else(|e| e.into_inner());
+        map.entry(id)
+            .or_insert_with(|| {
+                Arc::new(Channel {
+                    tx: broadcast::channel(self.capacity).0,
+                    latest: Mutex::new(None),
+                })
+            })
+            .clone()
+    }
+
+    /// Drops the job's channel once nobody holds it.
+    fn release(&self, id: Uuid) {
+        let mut map = self.channels.lock().unwrap_or_else(|e| e.into_inner());
+        if map.get(&id).is_some_and(|ch| Arc::strong_count(ch) == 1) {
+            map.remove(&id);
+        }
+    }
+
+    /// Listens to a job; the latest event so far comes along.
+    pub fn subscribe(self: &Arc<Self>, id: Uuid) -> Subscription {
+        let ch = self.channel(id);
+        let rx = ch.tx.subscribe();
+        let latest = ch.latest.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        Subscription {
+            hub: self.clone(),
+            id,
+            ch: Some(ch),
+            rx,
+            latest,
+        }
+    }
+
+    /// The sending end for claim `attempt` of a job.
+    pub fn publisher(self: &Arc<Self>, id: Uuid, attempt: i64) -> Publisher {
+        let ch = self.channel(id);
+        *ch.latest.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        Publisher {
+            hub: self.clone(),
+            id,
+            ch: Some(ch),
+            attempt,
+            next: 1,
+        }
+    }
+
+    /// Jobs with a live channel (for tests and metrics).
+    pub fn len(&self) -> usize {
+        self.channels
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A listener's end of a job's channel.
+pub struct Subscription {
+    hub: Arc<Hub>,
+    id: Uuid,
+    ch: Option<Arc<Channel>>,
+    pub rx: broadcast::Receiver<Event>,
+    pub latest: Option<Event>,
+}
+
+impl Drop for Subscription {
+    fn drop(&mut self) {
+        self.ch.take();
+        self.hub.release(self.id);
+    }
+}
+
+/// A worker's end of a job's channel. Sending never blocks; with no listener it costs a lock.
+pub struct Publisher {
+    hub: Arc<Hub>,
+    id: Uuid,
+    ch: Option<Arc<Channel>>,
+    attempt: i64,
+    next: u64,
+}
+
+impl Publisher {
+    pub fn send(&mut self, name: &'static str, data: String) {
+        let id = if matches!(name, "done" | "failed" | "cancelled") {
+            final_id(self.attempt)
+        } else {
+            self.next += 1;
+            event_id(self.attempt, self.next - 1)
+        };
+        let event = Event { id, name, data };
+        if let Some(ch) = &self.ch {
+            *ch.latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(event.clone());
+            // An error only means nobody is listening.
+            let _ = ch.tx.send(event);
+        }
+    }
+}
+
+impl Drop for Publisher {
+    fn drop(&mut self) {
+        self.ch.take();
+        self.hub.release(self.id);
+    }
+}
+
+/// The solver's observer for one job: keeps the latest progress for the heartbeat (which
+/// stores it about once a second) and publishes every report to the hub.
+pub struct JobObserver {
+    pub publisher: Publisher,
+    pub latest: Arc<Mutex<Option<Progress>>>,
+}
+
+impl Observer for JobObserver {
+    fn on_progress(&mut self, progress: &Progress) {
+        *self.latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(*progress);
+        let data = serde_json::to_string(progress).unwrap_or_else(|_| "{}".into());
+        self.publisher.send("progress", data);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_increase_across_claims_and_the_final_event_is_last() {
+        let hub = Hub::new(16);
+        let id = Uuid::new_v4();
+        let mut sub = hub.subscribe(id);
+        let mut p = hub.publisher(id, 1);
+        p.send("status", "{}".into());
+        p.send("progress", "{}".into());
+        drop(p);
+        let mut p = hub.publisher(id, 2);
+        p.send("status", "{}".into());
+        p.send("done", "{}".into());
+        let ids: Vec<u64> = (0..4).map(|_| sub.rx.try_recv().unwrap().id).collect();
+        assert!(ids.windows(2).all(|w| w[0] < w[1]), "{ids:?}");
+        assert_eq!(ids[3], final_id(2));
+        assert!(final_id(1) < event_id(2, 0));
+    }
+
+    #[test]
+    fn channels_are_dropped_when_nobody_holds_them() {
+        let hub = Hub::new(4);
+        let id = Uuid::new_v4();
+        let sub = hub.subscribe(id);
+        let publisher = hub.publisher(id, 1);
+        assert_eq!(hub.len(), 1);
+        drop(sub);
+        assert_eq!(hub.len(), 1);
+        drop(publisher);
+        assert!(hub.is_empty());
+    }
+}

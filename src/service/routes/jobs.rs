@@ -1,0 +1,262 @@
+//! `/v1/jobs`: submit, list, read, cancel, and the history as JSON or CSV.
+
+use super::{csv_response, json_text, parse_id, wants_csv, AppState, HttpLimits};
+use crate::service::error::ApiError;
+use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
+use crate::service::views::JobView;
+use crate::solver::{case::spec_from_json, Case, HistoryRow, Limits};
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{Path, Query, State};
+use axum::http::{header, HeaderMap, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use serde::Deserialize;
+use uuid::Uuid;
+
+const MAX_KEY_CHARS: usize = 200;
+const DEFAULT_PAGE: u32 = 50;
+const MAX_PAGE: u32 = 500;
+
+/// Case JSON text → a job ready to insert, or every reason it is not a case.
+pub(crate) fn prepare(
+    text: &str,
+    limits: &HttpLimits,
+    key: Option<String>,
+) -> Result<NewJob, ApiError> {
+    let spec = spec_from_json(text)?;
+    let label = spec.label.clone();
+    let case = Case::parse(
+        spec,
+        &Limits {
+            max_particles: limits.max_particles,
+        },
+    )?;
+    // Stored as submitted, in a canonical form so that a retried submit compares equal.
+    let value: serde_json::Value = serde_json::from_str(text)
+        .map_err(|e| ApiError::bad_request(format!("malformed JSON: {e}"), None))?;
+    Ok(NewJob {
+        id: Uuid::new_v4(),
+        case_json: value.to_string(),
+        label,
+        particles: case.particle_count(),
+        idempotency_key: key,
+    })
+}
+
+fn idempotency_key(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
+    let Some(value) = headers.get("idempotency-key") else {
+        return Ok(None);
+    };
+    let key = value.to_str().map_err(|_| {
+        ApiError::bad_request(
+            "Idempotency-Key must be visible ASCII",
+            Some("Idempotency-Key"),
+        )
+    })?;
+    let key = key.trim().trim_matches('"');
+    if key.is_empty() || key.chars().count() > MAX_KEY_CHARS {
+        return Err(ApiError::bad_request(
+            format!("Idempotency-Key must be 1 to {MAX_KEY_CHARS} characters"),
+            Some("Idempotency-Key"),
+        ));
+    }
+    Ok(Some(key.to_string()))
+}
+
+/// `202 Accepted` with `Location` and the job.
+fn accepted(view: JobView, replayed: bool) -> Response {
+    let location = view.links.this.clone();
+    let mut response = (
+        StatusCode::ACCEPTED,
+        [(header::LOCATION, location)],
+        Json(view),
+    )
+        .into_response();
+    if replayed {
+        response.headers_mut().insert(
+            "idempotent-replayed",
+            header::HeaderValue::from_static("true"),
+        );
+    }
+    response
+}
+
+pub async fn submit(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let text = json_text(&headers, body, s.limits.max_body_bytes)?;
+    let key = idempotency_key(&headers)?;
+    let job = prepare(&text, &s.limits, key)?;
+    match s.store.submit(job, s.limits.max_queue).await? {
+        Submitted::Created(r) => {
+            s.workers.notify();
+            Ok(accepted(JobView::new(&r, true), false))
+        }
+        Submitted::Replayed(r) => Ok(accepted(JobView::new(&r, true), true)),
+        Submitted::KeyReused => Err(ApiError::Unprocessable {
+            detail: "Idempotency-Key was used before with a different case".into(),
+            errors: vec![crate::solver::FieldError {
+                field: "Idempotency-Key".into(),
+                reason: "was used before with a different case".into(),
+            }],
+        }),
+        Submitted::QueueFull { depth } => Err(ApiError::Unavailable {
+            detail: format!("the queue is full ({depth} jobs waiting); try again later"),
+            retry_after_s: 10,
+        }),
+    }
+}
+
+#[derive(Debug, Deserialize)]
+pub struct ListParams {
+    status: Option<String>,
+    label: Option<String>,
+    limit: Option<String>,
+    cursor: Option<String>,
+}
+
+pub async fn list(
+    State(s): State<AppState>,
+    Query(p): Query<ListParams>,
+) -> Result<Response, ApiError> {
+    let mut statuses = Vec::new();
+    for name in p
+        .status
+        .iter()
+        .flat_map(|s| s.split(','))
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+    {
+        let status = Status::parse(name).ok_or_else(|| {
+            ApiError::bad_request(
+                format!(
+                    "status {name:?} is not one of queued, running, succeeded, failed, cancelled"
+                ),
+                Some("status"),
+            )
+        })?;
+        statuses.push(status);
+    }
+    let limit = match p.limit.as_deref() {
+        None => DEFAULT_PAGE,
+        Some(l) => l
+            .parse::<u32>()
+            .ok()
+            .filter(|l| (1..=MAX_PAGE).contains(l))
+            .ok_or_else(|| {
+                ApiError::bad_request(
+                    format!("limit must be an integer in [1, {MAX_PAGE}]"),
+                    Some("limit"),
+                )
+            })?,
+    };
+    let before = match p.cursor.as_deref() {
+        None | Some("") => None,
+        Some(c) => Some(c.parse::<i64>().map_err(|_| {
+            ApiError::bad_request("cursor is not one this server gave out", Some("cursor"))
+        })?),
+    };
+    let filter = ListFilter {
+        statuses,
+        label: p.label,
+        before,
+        limit: limit + 1,
+    };
+    let mut records = s.store.list(&filter).await?;
+    let next_cursor = if records.len() > limit as usize {
+        records.truncate(limit as usize);
+        records.last().map(|r| r.seq.to_string())
+    } else {
+        None
+    };
+    let jobs: Vec<JobView> = records.iter().map(|r| JobView::new(r, false)).collect();
+    Ok(Json(serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor })).into_response())
+}
+
+pub async fn get(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Json<JobView>, ApiError> {
+    let uuid = parse_id(&id, "job")?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
+    Ok(Json(JobView::new(&record, true)))
+}
+
+pub async fn cancel(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Response, ApiError> {
+    let uuid = parse_id(&id, "job")?;
+    match s.store.cancel(uuid).await? {
+        CancelOutcome::NotFound => Err(ApiError::job_not_found(&id)),
+        CancelOutcome::Finished(status) => Err(ApiError::Conflict {
+            detail: format!(
+                "job {id} is already {}; only a queued or running job can be cancelled",
+                status.as_str()
+            ),
+        }),
+        CancelOutcome::Cancelled(r) => {
+            Ok((StatusCode::OK, Json(JobView::new(&r, false))).into_response())
+        }
+        CancelOutcome::Requested(r) => {
+            s.workers.cancel(uuid);
+            Ok((StatusCode::ACCEPTED, Json(JobView::new(&r, false))).into_response())
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+pub struct FormatParams {
+    format: Option<String>,
+}
+
+pub async fn history(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    Query(q): Query<FormatParams>,
+    headers: HeaderMap,
+) -> Result<Response, ApiError> {
+    let uuid = parse_id(&id, "job")?;
+    let csv = wants_csv(&headers, q.format.as_deref())?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
+    if record.status != Status::Succeeded {
+        return Err(ApiError::Conflict {
+            detail: format!(
+                "job {id} is {}; its history is stored when it succeeds",
+                record.status.as_str()
+            ),
+        });
+    }
+    let rows = s.store.history(uuid).await?;
+    if csv {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut write = || -> Result<Vec<u8>, csv::Error> {
+            w.write_record(HistoryRow::COLUMNS)?;
+            for row in &rows {
+                w.write_record(row.iter().map(|v| v.to_string()))?;
+            }
+            w.flush()?;
+            Ok(w.get_ref().clone())
+        };
+        let bytes = write().map_err(ApiError::internal)?;
+        let text = String::from_utf8(bytes).map_err(ApiError::internal)?;
+        return Ok(csv_response(text, &format!("{id}-history.csv")));
+    }
+    Ok(Json(serde_json::json!({
+        "job_id": uuid,
+        "columns": HistoryRow::COLUMNS,
+        "rows": rows,
+    }))
+    .into_response())
+}

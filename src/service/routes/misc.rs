@@ -1,0 +1,108 @@
+//! `/healthz`, Prometheus `/metrics`, and `POST /v1/estimate`.
+
+use super::{json_text, AppState};
+use crate::service::error::ApiError;
+use crate::service::store::Status;
+use crate::solver::{case::spec_from_json, estimate as solver_estimate, Case, Estimate, Limits};
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::State;
+use axum::http::{header, HeaderMap};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use std::fmt::Write;
+use std::sync::atomic::Ordering;
+
+pub async fn healthz(State(s): State<AppState>) -> Result<Response, ApiError> {
+    s.store.ping().await.map_err(|e| {
+        tracing::error!(error = %e, "health check: the database does not answer");
+        ApiError::Unavailable {
+            detail: "the database does not answer".into(),
+            retry_after_s: 5,
+        }
+    })?;
+    Ok(Json(serde_json::json!({ "status": "ok" })).into_response())
+}
+
+pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
+    let counts = s.store.counts().await?;
+    let (running_here, rate) = s.workers.load();
+    let sse_open = s.limits_sse_open();
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# HELP crush_jobs Jobs in the store, by status.\n# TYPE crush_jobs gauge"
+    );
+    for status in Status::ALL {
+        let n = counts
+            .iter()
+            .find(|(st, _)| *st == status)
+            .map_or(0, |(_, n)| *n);
+        let _ = writeln!(out, "crush_jobs{{status=\"{}\"}} {n}", status.as_str());
+    }
+    let queued = counts
+        .iter()
+        .find(|(st, _)| *st == Status::Queued)
+        .map_or(0, |(_, n)| *n);
+    let gauges = [
+        ("crush_queue_depth", "Jobs waiting to run.", queued as f64),
+        (
+            "crush_running_jobs",
+            "Jobs running in this process.",
+            running_here as f64,
+        ),
+        (
+            "crush_particle_steps_per_second",
+            "Current solver throughput of this process.",
+            rate,
+        ),
+        ("crush_sse_clients", "Open event streams.", sse_open as f64),
+    ];
+    for (name, help, value) in gauges {
+        let _ = writeln!(
+            out,
+            "# HELP {name} {help}\n# TYPE {name} gauge\n{name} {value}"
+        );
+    }
+    let total = s.workers.particle_steps_total.load(Ordering::Relaxed);
+    let _ = writeln!(
+        out,
+        "# HELP crush_particle_steps_total Particle-steps of the runs this process finished.\n\
+         # TYPE crush_particle_steps_total counter\ncrush_particle_steps_total {total}"
+    );
+    Ok((
+        [(
+            header::CONTENT_TYPE,
+            "text/plain; version=0.0.4; charset=utf-8",
+        )],
+        out,
+    )
+        .into_response())
+}
+
+impl AppState {
+    fn limits_sse_open(&self) -> usize {
+        self.limits
+            .max_sse_clients
+            .saturating_sub(self.sse_permits.available_permits())
+    }
+}
+
+pub async fn estimate(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<Estimate>, ApiError> {
+    let text = json_text(&headers, body, s.limits.max_body_bytes)?;
+    let spec = spec_from_json(&text)?;
+    let case = Case::parse(
+        spec,
+        &Limits {
+            max_particles: s.limits.max_particles,
+        },
+    )?;
+    Ok(Json(solver_estimate(
+        &case,
+        s.workers.threads_per_job() as u32,
+    )))
+}

@@ -1,0 +1,189 @@
+//! The HTTP layer: [`app`] builds the router from one route table (which the contract test
+//! compares with `api/openapi.yaml`); handlers talk only to the store, the hub and the workers.
+
+mod events;
+mod jobs;
+mod misc;
+mod sweeps;
+
+use super::error::{ApiError, PROBLEM_JSON};
+use super::hub::Hub;
+use super::store::Store;
+use super::worker::Workers;
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{DefaultBodyLimit, Request};
+use axum::http::{header, HeaderMap, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post, MethodRouter};
+use axum::{middleware, Router};
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::sync::{watch, Semaphore};
+
+/// Limits and settings the handlers apply.
+#[derive(Debug, Clone)]
+pub struct HttpLimits {
+    pub max_body_bytes: usize,
+    pub max_particles: u64,
+    pub max_queue: u64,
+    pub max_sweep_jobs: usize,
+    pub max_sse_clients: usize,
+    pub keep_alive: Duration,
+    /// How often an SSE stream re-reads the job from the store (catches what the hub cannot:
+    /// jobs run by another process).
+    pub sse_poll: Duration,
+}
+
+/// What every handler can reach.
+#[derive(Clone)]
+pub struct AppState {
+    pub store: Store,
+    pub hub: Arc<Hub>,
+    pub workers: Arc<Workers>,
+    pub limits: Arc<HttpLimits>,
+    /// One permit per open SSE stream.
+    pub sse_permits: Arc<Semaphore>,
+    /// Becomes true when the server shuts down; open SSE streams end then.
+    pub shutdown: watch::Receiver<bool>,
+}
+
+/// The routes: method, path, handler.
+fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
+    vec![
+        ("GET", "/healthz", get(misc::healthz)),
+        ("GET", "/metrics", get(misc::metrics)),
+        ("POST", "/v1/estimate", post(misc::estimate)),
+        ("POST", "/v1/jobs", post(jobs::submit)),
+        ("GET", "/v1/jobs", get(jobs::list)),
+        ("GET", "/v1/jobs/{id}", get(jobs::get)),
+        ("POST", "/v1/jobs/{id}/cancel", post(jobs::cancel)),
+        ("GET", "/v1/jobs/{id}/history", get(jobs::history)),
+        ("GET", "/v1/jobs/{id}/events", get(events::events)),
+        ("POST", "/v1/sweeps", post(sweeps::create)),
+        ("GET", "/v1/sweeps/{id}", get(sweeps::get)),
+    ]
+}
+
+/// Every (method, path) the server answers.
+pub fn routes() -> Vec<(&'static str, &'static str)> {
+    table().into_iter().map(|(m, p, _)| (m, p)).collect()
+}
+
+/// The whole HTTP application.
+pub fn app(state: AppState) -> Router {
+    let limit = state.limits.max_body_bytes;
+    let mut router = Router::new();
+    for (_, path, handler) in table() {
+        router = router.route(path, handler);
+    }
+    router
+        .fallback(no_route)
+        .layer(DefaultBodyLimit::max(limit))
+        .layer(middleware::map_response(problem_everywhere))
+        .layer(tower_http::trace::TraceLayer::new_for_http())
+        .with_state(state)
+}
+
+async fn no_route(request: Request) -> ApiError {
+    ApiError::NoRoute {
+        method: request.method().to_string(),
+        path: request.uri().path().to_string(),
+    }
+}
+
+/// Turns any error response not already a problem (axum's own rejections, 405) into one.
+async fn problem_everywhere(response: Response) -> Response {
+    let status = response.status();
+    let is_problem = response
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .is_some_and(|v| v.as_bytes().starts_with(PROBLEM_JSON.as_bytes()));
+    if !(status.is_client_error() || status.is_server_error()) || is_problem {
+        return response;
+    }
+    let (parts, body) = response.into_parts();
+    let text = axum::body::to_bytes(body, 4096).await.unwrap_or_default();
+    let detail = String::from_utf8_lossy(&text).trim().to_string();
+    let error = match status {
+        StatusCode::METHOD_NOT_ALLOWED => ApiError::MethodNotAllowed,
+        StatusCode::PAYLOAD_TOO_LARGE => ApiError::TooLarge { limit: 0 },
+        StatusCode::UNSUPPORTED_MEDIA_TYPE => ApiError::UnsupportedMediaType(detail),
+        s if s.is_client_error() => ApiError::bad_request(detail, None),
+        _ => ApiError::Internal(detail.into()),
+    };
+    let mut problem = error.into_response();
+    *problem.status_mut() = status;
+    if let Some(allow) = parts.headers.get(header::ALLOW) {
+        problem.headers_mut().insert(header::ALLOW, allow.clone());
+    }
+    problem
+}
+
+/// The body of a JSON request as text: checks the content type, the size and UTF-8.
+pub(crate) fn json_text(
+    headers: &HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+    limit: usize,
+) -> Result<String, ApiError> {
+    if let Some(ct) = headers.get(header::CONTENT_TYPE) {
+        let ct = ct.to_str().unwrap_or("").to_ascii_lowercase();
+        let essence = ct.split(';').next().unwrap_or("").trim();
+        if essence != "application/json" && !essence.ends_with("+json") {
+            return Err(ApiError::UnsupportedMediaType(essence.to_string()));
+        }
+    }
+    let bytes = body.map_err(|e| {
+        if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::TooLarge { limit }
+        } else {
+            ApiError::bad_request(format!("could not read the body: {e}"), None)
+        }
+    })?;
+    String::from_utf8(bytes.to_vec())
+        .map_err(|_| ApiError::bad_request("the body is not UTF-8", None))
+}
+
+/// Whether the client asked for CSV, by `Accept` or by `?format=csv`.
+pub(crate) fn wants_csv(headers: &HeaderMap, format: Option<&str>) -> Result<bool, ApiError> {
+    match format {
+        Some("csv") => return Ok(true),
+        Some("json") => return Ok(false),
+        Some(other) => {
+            return Err(ApiError::bad_request(
+                format!("format must be csv or json, not {other:?}"),
+                Some("format"),
+            ))
+        }
+        None => {}
+    }
+    let accept = headers
+        .get(header::ACCEPT)
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("");
+    Ok(accept
+        .split(',')
+        .any(|m| m.split(';').next().unwrap_or("").trim() == "text/csv"))
+}
+
+/// A CSV response.
+pub(crate) fn csv_response(text: String, filename: &str) -> Response {
+    (
+        [
+            (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_string()),
+            (
+                header::CONTENT_DISPOSITION,
+                format!("inline; filename=\"{filename}\""),
+            ),
+        ],
+        text,
+    )
+        .into_response()
+}
+
+/// A path id: a UUID, or the thing is not found.
+pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
+    uuid::Uuid::parse_str(raw).map_err(|_| ApiError::NotFound {
+        what: format!("{what} {raw}"),
+    })
+}

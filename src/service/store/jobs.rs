@@ -1,0 +1,217 @@
+//! Jobs as clients see them: submit (with idempotency keys and the queue limit), read, list,
+//! cancel, and read a history back.
+
+use super::{job_from_row, now_ms, JobRecord, Result, Status, Store, JOB_COLUMNS, JOB_FROM};
+use crate::solver::HistoryRow;
+use sqlx::{Sqlite, Transaction};
+use uuid::Uuid;
+
+/// A job to insert.
+#[derive(Debug, Clone)]
+pub struct NewJob {
+    pub id: Uuid,
+    /// The case as submitted (normalised JSON).
+    pub case_json: String,
+    pub label: Option<String>,
+    pub particles: u64,
+    pub idempotency_key: Option<String>,
+}
+
+/// What a submit did.
+#[derive(Debug)]
+pub enum Submitted {
+    Created(JobRecord),
+    /// The idempotency key was seen before with the same case: that job.
+    Replayed(JobRecord),
+    /// The idempotency key was seen before with a different case.
+    KeyReused,
+    /// The queue already holds `depth` jobs.
+    QueueFull {
+        depth: i64,
+    },
+}
+
+/// Which jobs to list: newest first, `seq < before`.
+#[derive(Debug, Clone, Default)]
+pub struct ListFilter {
+    pub statuses: Vec<Status>,
+    pub label: Option<String>,
+    pub before: Option<i64>,
+    pub limit: u32,
+}
+
+/// What a cancel did.
+#[derive(Debug)]
+pub enum CancelOutcome {
+    NotFound,
+    /// Already succeeded, failed or cancelled.
+    Finished(Status),
+    /// It was queued and is now cancelled.
+    Cancelled(JobRecord),
+    /// It is running; its worker has been asked to stop.
+    Requested(JobRecord),
+}
+
+impl Store {
+    /// Inserts a job unless the queue is full or the idempotency key was used before.
+    pub async fn submit(&self, job: NewJob, max_queue: u64) -> Result<Submitted> {
+        let mut tx = self.write().await?;
+        if let Some(key) = &job.idempotency_key {
+            let seen: Option<(String, String)> =
+                sqlx::query_as("SELECT id, case_json FROM jobs WHERE idempotency_key = ?")
+                    .bind(key)
+                    .fetch_optional(&mut *tx)
+                    .await?;
+            if let Some((id, case_json)) = seen {
+                tx.rollback().await?;
+                if case_json != job.case_json {
+                    return Ok(Submitted::KeyReused);
+                }
+                let id = super::parse_uuid(&id)?;
+                let record = self.job(id).await?;
+                return Ok(record
+                    .map(Submitted::Replayed)
+                    .unwrap_or(Submitted::KeyReused));
+            }
+        }
+        let depth = queue_depth(&mut tx).await?;
+        if depth as u64 >= max_queue {
+            return Ok(Submitted::QueueFull { depth });
+        }
+        insert_job(&mut tx, &job, None).await?;
+        tx.commit().await?;
+        let record = self.job(job.id).await?;
+        record
+            .map(Submitted::Created)
+            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))
+    }
+
+    pub async fn job(&self, id: Uuid) -> Result<Option<JobRecord>> {
+        let sql = format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.id = ?");
+        let row = sqlx::query(&sql)
+            .bind(id.to_string())
+            .fetch_optional(&self.pool)
+            .await?;
+        row.as_ref().map(job_from_row).transpose()
+    }
+
+    /// Jobs newest first, filtered.
+    pub async fn list(&self, filter: &ListFilter) -> Result<Vec<JobRecord>> {
+        let mut q = sqlx::QueryBuilder::<Sqlite>::new(format!(
+            "SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE 1 = 1"
+        ));
+        if !filter.statuses.is_empty() {
+            q.push(" AND j.status IN (");
+            let mut list = q.separated(", ");
+            for s in &filter.statuses {
+                list.push_bind(s.as_str());
+            }
+            q.push(")");
+        }
+        if let Some(label) = &filter.label {
+            q.push(" AND j.label = ").push_bind(label.clone());
+        }
+        if let Some(before) = filter.before {
+            q.push(" AND j.seq < ").push_bind(before);
+        }
+        q.push(" ORDER BY j.seq DESC LIMIT ")
+            .push_bind(filter.limit as i64);
+        let rows = q.build().fetch_all(&self.pool).await?;
+        rows.iter().map(job_from_row).collect()
+    }
+
+    /// Cancels a queued job at once, or asks the worker of a running one to stop.
+    pub async fn cancel(&self, id: Uuid) -> Result<CancelOutcome> {
+        let mut tx = self.write().await?;
+        let status: Option<(String,)> = sqlx::query_as("SELECT status FROM jobs WHERE id = ?")
+            .bind(id.to_string())
+            .fetch_optional(&mut *tx)
+            .await?;
+        let Some(status) = status.and_then(|(s,)| Status::parse(&s)) else {
+            return Ok(CancelOutcome::NotFound);
+        };
+        let outcome = match status {
+            Status::Queued => {
+                sqlx::query(
+                    "UPDATE jobs SET status = 'cancelled', cancel_requested = 1, finished_at = ? \
+                     WHERE id = ?",
+                )
+                .bind(now_ms())
+                .bind(id.to_string())
+                .execute(&mut *tx)
+                .await?;
+                Status::Cancelled
+            }
+            Status::Running => {
+                sqlx::query("UPDATE jobs SET cancel_requested = 1 WHERE id = ?")
+                    .bind(id.to_string())
+                    .execute(&mut *tx)
+                    .await?;
+                Status::Running
+            }
+            done => return Ok(CancelOutcome::Finished(done)),
+        };
+        tx.commit().await?;
+        let record = self
+            .job(id)
+            .await?
+            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))?;
+        Ok(if outcome == Status::Cancelled {
+            CancelOutcome::Cancelled(record)
+        } else {
+            CancelOutcome::Requested(record)
+        })
+    }
+
+    /// The stored history of a job, each row's values in [`HistoryRow::COLUMNS`] order.
+    pub async fn history(&self, id: Uuid) -> Result<Vec<Vec<f64>>> {
+        let sql = format!(
+            "SELECT {} FROM history WHERE job_id = ? ORDER BY row",
+            HistoryRow::COLUMNS.join(", ")
+        );
+        let rows = sqlx::query(&sql)
+            .bind(id.to_string())
+            .fetch_all(&self.pool)
+            .await?;
+        rows.iter()
+            .map(|row| {
+                use sqlx::Row;
+                (0..HistoryRow::COLUMNS.len())
+                    .map(|i| Ok(row.try_get::<f64, _>(i)?))
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// Jobs waiting to run.
+pub(super) async fn queue_depth(tx: &mut Transaction<'static, Sqlite>) -> Result<i64> {
+    let (n,): (i64,) = sqlx::query_as("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
+        .fetch_one(&mut **tx)
+        .await?;
+    Ok(n)
+}
+
+/// Inserts a queued job; `sweep` is (sweep id, index, swept values as JSON).
+pub(super) async fn insert_job(
+    tx: &mut Transaction<'static, Sqlite>,
+    job: &NewJob,
+    sweep: Option<(Uuid, i64, &str)>,
+) -> Result<()> {
+    sqlx::query(
+        "INSERT INTO jobs (id, status, label, case_json, particles, idempotency_key, sweep_id, \
+         sweep_index, sweep_values_json, created_at) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?)",
+    )
+    .bind(job.id.to_string())
+    .bind(&job.label)
+    .bind(&job.case_json)
+    .bind(job.particles as i64)
+    .bind(&job.idempotency_key)
+    .bind(sweep.map(|s| s.0.to_string()))
+    .bind(sweep.map(|s| s.1))
+    .bind(sweep.map(|s| s.2))
+    .bind(now_ms())
+    .execute(&mut **tx)
+    .await?;
+    Ok(())
+}

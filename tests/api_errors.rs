@@ -1,0 +1,277 @@
+//! Every class of bad input gets its status and an RFC 9457 problem naming the field, and the
+//! server stays up.
+
+mod common;
+
+use common::*;
+use serde_json::{json, Value};
+use std::time::Duration;
+
+/// Checks the status and the problem+json body; returns the body.
+async fn problem(r: reqwest::Response, status: u16) -> Value {
+    assert_eq!(r.status(), status, "{:?}", r.headers());
+    let ct = r.headers()["content-type"].to_str().unwrap().to_string();
+    assert_eq!(ct, "application/problem+json");
+    let p: Value = r.json().await.unwrap();
+    assert_eq!(p["status"], status);
+    assert!(
+        p["type"].is_string() && p["title"].is_string() && p["detail"].is_string(),
+        "{p}"
+    );
+    p
+}
+
+fn fields(p: &Value) -> Vec<String> {
+    p["errors"].as_array().map_or(vec![], |a| {
+        a.iter()
+            .map(|e| e["field"].as_str().unwrap().to_string())
+            .collect()
+    })
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field() {
+    let app = TestApp::start(&[
+        "--concurrent-jobs",
+        "0",
+        "--max-particles",
+        "20000",
+        "--max-body-bytes",
+        "65536",
+        "--max-queue",
+        "3",
+        "--max-sse-clients",
+        "1",
+    ])
+    .await;
+    let c = &app.client;
+    let jobs = app.at("/v1/jobs");
+    let post_text = |body: &'static str| {
+        c.post(&jobs)
+            .header("content-type", "application/json")
+            .body(body)
+            .send()
+    };
+
+    // 400: not JSON, a wrong type, an unknown field.
+    let p = problem(post_text("{\"tube\": ").await.unwrap(), 400).await;
+    assert!(p["detail"].as_str().unwrap().contains("malformed"), "{p}");
+    let p = problem(
+        post_text(r#"{"tube": {"thickness_mm": "thick"}}"#)
+            .await
+            .unwrap(),
+        400,
+    )
+    .await;
+    assert_eq!(p["field"], "tube.thickness_mm");
+    let p = problem(post_text(r#"{"tube": {"wall_mm": 1}}"#).await.unwrap(), 400).await;
+    assert!(p["detail"].as_str().unwrap().contains("wall_mm"), "{p}");
+    let p = problem(
+        c.post(&jobs)
+            .header("content-type", "application/json")
+            .body(vec![0xff, 0xfe])
+            .send()
+            .await
+            .unwrap(),
+        400,
+    )
+    .await;
+    assert!(p["detail"].as_str().unwrap().contains("UTF-8"));
+
+    // 422: a case that parses but makes no sense, every field named.
+    let bad = json!({"tube": {"thickness_mm": 12}, "material": {"poisson_ratio": 0.5},
+                     "loading": {"plate_speed_m_s": -1}, "output": {"history_points": 1}});
+    let p = problem(c.post(&jobs).json(&bad).send().await.unwrap(), 422).await;
+    let named = fields(&p);
+    for f in [
+        "tube.thickness_mm",
+        "material.poisson_ratio",
+        "loading.plate_speed_m_s",
+        "output.history_points",
+    ] {
+        assert!(named.contains(&f.to_string()), "{f} not in {named:?}");
+    }
+    // 422: too large for this server.
+    let big = json!({"discretization": {"particles_through_thickness": 6}});
+    let p = problem(c.post(&jobs).json(&big).send().await.unwrap(), 422).await;
+    assert_eq!(
+        fields(&p),
+        vec!["discretization.particles_through_thickness"]
+    );
+    assert!(p["detail"].as_str().unwrap().contains("20000"), "{p}");
+    let p = problem(
+        c.post(app.at("/v1/estimate"))
+            .json(&big)
+            .send()
+            .await
+            .unwrap(),
+        422,
+    )
+    .await;
+    assert_eq!(
+        fields(&p),
+        vec!["discretization.particles_through_thickness"]
+    );
+
+    // 413: a body over the limit, whether announced or streamed.
+    let huge = format!("{{\"label\": \"{}\"}}", "x".repeat(200_000));
+    problem(
+        c.post(&jobs)
+            .header("content-type", "application/json")
+            .body(huge.clone())
+            .send()
+            .await
+            .unwrap(),
+        413,
+    )
+    .await;
+    let chunks = futures::stream::iter((0..50).map(|_| Ok::<_, std::io::Error>(vec![b' '; 4096])));
+    let streamed = c
+        .post(&jobs)
+        .header("content-type", "application/json")
+        .body(reqwest::Body::wrap_stream(chunks));
+    // The server answers 413 as soon as the limit is passed and closes the connection; a client
+    // still writing may see that as a broken pipe instead of reading the answer.
+    match streamed.send().await {
+        Ok(r) => drop(problem(r, 413).await),
+        Err(e) => assert!(e.is_request(), "{e}"),
+    }
+
+    // 415: not JSON by its content type.
+    problem(
+        c.post(&jobs)
+            .header("content-type", "text/plain")
+            .body("{}")
+            .send()
+            .await
+            .unwrap(),
+        415,
+    )
+    .await;
+
+    // 404: unknown ids, ids that are not UUIDs, unknown routes; 405 a wrong method.
+    let unknown = "3f2b7d1e-0000-4000-8000-000000000000";
+    for path in [
+        format!("/v1/jobs/{unknown}"),
+        format!("/v1/jobs/{unknown}/history"),
+        format!("/v1/jobs/{unknown}/events"),
+        "/v1/jobs/not-a-uuid".to_string(),
+        "/v1/jobs/%20bad%3F/history".to_string(),
+        format!("/v1/sweeps/{unknown}"),
+        "/v1/nothing-here".to_string(),
+    ] {
+        problem(c.get(app.at(&path)).send().await.unwrap(), 404).await;
+    }
+    problem(
+        c.post(app.at(&format!("/v1/jobs/{unknown}/cancel")))
+            .send()
+            .await
+            .unwrap(),
+        404,
+    )
+    .await;
+    problem(c.delete(app.at("/v1/jobs")).send().await.unwrap(), 405).await;
+
+    // 400: bad list parameters and headers.
+    for (query, field) in [
+        ("status=done", "status"),
+        ("limit=0", "limit"),
+        ("limit=x", "limit"),
+        ("cursor=abc", "cursor"),
+    ] {
+        let p = problem(
+            c.get(app.at(&format!("/v1/jobs?{query}")))
+                .send()
+                .await
+                .unwrap(),
+            400,
+        )
+        .await;
+        assert_eq!(p["field"], field, "{query}: {p}");
+    }
+    let long_key = "k".repeat(300);
+    let p = problem(
+        c.post(&jobs)
+            .header("idempotency-key", long_key)
+            .json(&tiny_case())
+            .send()
+            .await
+            .unwrap(),
+        400,
+    )
+    .await;
+    assert_eq!(p["field"], "Idempotency-Key");
+
+    // 400/422 for sweeps: a malformed body, an empty list, too many combinations.
+    let p = problem(
+        c.post(app.at("/v1/sweeps"))
+            .json(&json!({"base": {}}))
+            .send()
+            .await
+            .unwrap(),
+        400,
+    )
+    .await;
+    assert!(p["detail"].as_str().unwrap().contains("parameters"), "{p}");
+    let body = json!({"base": tiny_case(), "parameters": {"tube.length_mm": []}});
+    let p = problem(
+        c.post(app.at("/v1/sweeps"))
+            .json(&body)
+            .send()
+            .await
+            .unwrap(),
+        422,
+    )
+    .await;
+    assert_eq!(fields(&p), vec!["parameters.tube.length_mm"]);
+
+    // 503: the queue is full (3 jobs here), with Retry-After.
+    for _ in 0..3 {
+        app.submit(&tiny_case()).await;
+    }
+    let r = c.post(&jobs).json(&tiny_case()).send().await.unwrap();
+    assert!(r.headers().contains_key("retry-after"));
+    problem(r, 503).await;
+    let body = json!({"base": tiny_case(), "parameters": {"tube.length_mm": [8, 9]}});
+    problem(
+        c.post(app.at("/v1/sweeps"))
+            .json(&body)
+            .send()
+            .await
+            .unwrap(),
+        503,
+    )
+    .await;
+
+    // 503: too many event streams (1 here).
+    let list = get_json(c, &app.at("/v1/jobs?status=queued&limit=1")).await;
+    let id = list["jobs"][0]["id"].as_str().unwrap().to_string();
+    let url = app.at(&format!("/v1/jobs/{id}/events"));
+    let (status, mut open) = SseReader::open(c, &url, None).await;
+    assert_eq!(status, 200);
+    assert!(open.next(Duration::from_secs(5)).await.is_some());
+    problem(c.get(&url).send().await.unwrap(), 503).await;
+    drop(open);
+
+    // 409: cancelling a finished job.
+    let r = c
+        .post(app.at(&format!("/v1/jobs/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    problem(
+        c.post(app.at(&format!("/v1/jobs/{id}/cancel")))
+            .send()
+            .await
+            .unwrap(),
+        409,
+    )
+    .await;
+
+    // Still standing.
+    assert_eq!(
+        c.get(app.at("/healthz")).send().await.unwrap().status(),
+        200
+    );
+}

@@ -1,0 +1,289 @@
+//! Helpers of the API tests: the real server on port 0 with a temporary SQLite file, either
+//! in-process ([`TestApp`]) or as a child process of the built binary ([`Child`]); a small SSE
+//! reader; and the cases the tests submit.
+#![allow(dead_code)]
+
+use futures::StreamExt;
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+/// Runs in about a second with the real solver (well under with the placeholder).
+pub fn tiny_case() -> Value {
+    json!({
+        "tube": {"thickness_mm": 3.2, "mean_diameter_mm": 22.2, "length_mm": 8},
+        "discretization": {"particles_through_thickness": 1},
+        "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20},
+        "output": {"history_points": 20}
+    })
+}
+
+/// Runs for a few seconds: long enough to kill a server under it, short enough to finish.
+pub fn medium_case() -> Value {
+    json!({
+        "tube": {"length_mm": 76.2},
+        "discretization": {"particles_through_thickness": 1},
+        "loading": {"crush_distance_mm": 20, "plate_speed_m_s": 20},
+        "output": {"history_points": 500}
+    })
+}
+
+/// Runs far longer than any test waits: only ever cancelled or interrupted.
+pub fn long_case() -> Value {
+    json!({
+        "tube": {"length_mm": 76.2},
+        "discretization": {"particles_through_thickness": 2},
+        "loading": {"crush_distance_mm": 40, "plate_speed_m_s": 10},
+        "output": {"history_points": 5000}
+    })
+}
+
+pub fn client() -> reqwest::Client {
+    reqwest::Client::builder()
+        .timeout(Duration::from_secs(30))
+        .build()
+        .unwrap()
+}
+
+/// An in-process server on 127.0.0.1:0 with a fresh database.
+pub struct TestApp {
+    pub url: String,
+    pub client: reqwest::Client,
+    pub server: Option<crush::service::Server>,
+    pub dir: tempfile::TempDir,
+}
+
+impl TestApp {
+    pub async fn start(flags: &[&str]) -> TestApp {
+        let dir = tempfile::tempdir().unwrap();
+        let db = database_url(dir.path());
+        let mut all = vec![
+            "--port",
+            "0",
+            "--database-url",
+            db.as_str(),
+            "--threads-per-job",
+            "1",
+        ];
+        all.extend_from_slice(flags);
+        let args = crush::service::ServeArgs::from_flags(all).unwrap();
+        let server = crush::service::start(args).await.unwrap();
+        TestApp {
+            url: format!("http://{}", server.addr),
+            client: client(),
+            server: Some(server),
+            dir,
+        }
+    }
+
+    pub fn at(&self, path: &str) -> String {
+        format!("{}{path}", self.url)
+    }
+
+    /// Submits a case; panics unless it is accepted.
+    pub async fn submit(&self, case: &Value) -> Value {
+        let r = self
+            .client
+            .post(self.at("/v1/jobs"))
+            .json(case)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(r.status(), 202, "{}", r.text().await.unwrap());
+        r.json().await.unwrap()
+    }
+
+    pub async fn job(&self, id: &str) -> Value {
+        get_json(&self.client, &self.at(&format!("/v1/jobs/{id}"))).await
+    }
+
+    /// Polls the job until its status is one of `wanted`.
+    pub async fn wait_for(&self, id: &str, wanted: &[&str], timeout: Duration) -> Value {
+        wait_for(&self.client, &self.url, id, wanted, timeout).await
+    }
+}
+
+pub fn database_url(dir: &Path) -> String {
+    format!("sqlite://{}", dir.join("crush.db").display())
+}
+
+pub async fn get_json(client: &reqwest::Client, url: &str) -> Value {
+    let r = client.get(url).send().await.unwrap();
+    assert!(r.status().is_success(), "GET {url}: {}", r.status());
+    r.json().await.unwrap()
+}
+
+pub async fn wait_for(
+    client: &reqwest::Client,
+    base: &str,
+    id: &str,
+    wanted: &[&str],
+    timeout: Duration,
+) -> Value {
+    let start = Instant::now();
+    loop {
+        let job = get_json(client, &format!("{base}/v1/jobs/{id}")).await;
+        if wanted.contains(&job["status"].as_str().unwrap_or("")) {
+            return job;
+        }
+        assert!(
+            start.elapsed() < timeout,
+            "job {id} not {wanted:?} after {timeout:?}: {job}"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// One server-sent event.
+#[derive(Debug, Clone)]
+pub struct SseEvent {
+    pub id: Option<u64>,
+    pub event: String,
+    pub data: String,
+}
+
+impl SseEvent {
+    pub fn json(&self) -> Value {
+        serde_json::from_str(&self.data).unwrap()
+    }
+}
+
+/// Reads events off an open `text/event-stream` response.
+pub struct SseReader {
+    stream: futures::stream::BoxStream<'static, reqwest::Result<axum::body::Bytes>>,
+    buffer: String,
+}
+
+impl SseReader {
+    pub async fn open(
+        client: &reqwest::Client,
+        url: &str,
+        last_event_id: Option<u64>,
+    ) -> (reqwest::StatusCode, SseReader) {
+        let mut req = client
+            .get(url)
+            .header("accept", "text/event-stream")
+            .timeout(Duration::from_secs(120));
+        if let Some(id) = last_event_id {
+            req = req.header("last-event-id", id.to_string());
+        }
+        let r = req.send().await.unwrap();
+        let status = r.status();
+        (
+            status,
+            SseReader {
+                stream: r.bytes_stream().boxed(),
+                buffer: String::new(),
+            },
+        )
+    }
+
+    /// The next event (comments skipped); `None` when the stream ends or `timeout` passes.
+    pub async fn next(&mut self, timeout: Duration) -> Option<SseEvent> {
+        let deadline = tokio::time::Instant::now() + timeout;
+        loop {
+            while let Some(end) = self.buffer.find("\n\n") {
+                let block: String = self.buffer.drain(..end + 2).collect();
+                let mut event = SseEvent {
+                    id: None,
+                    event: "message".into(),
+                    data: String::new(),
+                };
+                let mut any = false;
+                for line in block.lines() {
+                    if let Some(v) = line.strip_prefix("id:") {
+                        event.id = v.trim().parse().ok();
+                        any = true;
+                    } else if let Some(v) = line.strip_prefix("event:") {
+                        event.event = v.trim().to_string();
+                        any = true;
+                    } else if let Some(v) = line.strip_prefix("data:") {
+                        event.data.push_str(v.strip_prefix(' ').unwrap_or(v));
+                        any = true;
+                    }
+                }
+                if any {
+                    return Some(event);
+                }
+            }
+            match tokio::time::timeout_at(deadline, self.stream.next()).await {
+                Ok(Some(Ok(bytes))) => self.buffer.push_str(&String::from_utf8_lossy(&bytes)),
+                _ => return None,
+            }
+        }
+    }
+}
+
+/// The server as a separate process of the built binary.
+pub struct Child {
+    pub process: std::process::Child,
+    pub url: String,
+}
+
+impl Child {
+    /// Starts `crush serve --port 0` on the database and reads the bound address it prints.
+    pub fn start(db: &str, flags: &[&str]) -> Child {
+        let mut process = std::process::Command::new(env!("CARGO_BIN_EXE_crush"))
+            .args([
+                "serve",
+                "--port",
+                "0",
+                "--database-url",
+                db,
+                "--threads-per-job",
+                "1",
+            ])
+            .args(flags)
+            .env("RUST_LOG", "warn")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("the crush binary starts");
+        let stdout = process.stdout.take().unwrap();
+        let mut lines = BufReader::new(stdout).lines();
+        let line = lines
+            .next()
+            .expect("the server prints its address")
+            .unwrap();
+        let url = line.rsplit(' ').next().unwrap().trim().to_string();
+        assert!(url.starts_with("http://"), "unexpected first line {line:?}");
+        // Keep draining stdout so the server never blocks on a full pipe.
+        std::thread::spawn(move || for _ in lines {});
+        Child { process, url }
+    }
+
+    pub fn pid(&self) -> i32 {
+        self.process.id() as i32
+    }
+
+    /// Waits up to `timeout` for the process to exit by itself.
+    pub fn exited_within(&mut self, timeout: Duration) -> Option<std::process::ExitStatus> {
+        let start = Instant::now();
+        while start.elapsed() < timeout {
+            if let Some(status) = self.process.try_wait().unwrap() {
+                return Some(status);
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        None
+    }
+}
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        let _ = self.process.kill();
+        let _ = self.process.wait();
+    }
+}
+
+pub fn temp_db() -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let url = database_url(dir.path());
+    (dir, url)
+}
+
+pub fn repo_file(path: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
+}
