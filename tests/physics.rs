@@ -1,7 +1,7 @@
 //! Physics of the engine against closed forms and conservation laws. Each test states its
 //! tolerance and why. Scenes are small so that the suite stays fast in CI.
 
-use crush::solver::case::{ShapeKind, Transfer};
+use crush::solver::case::ShapeKind;
 use crush::solver::material::{von_mises, Elastoplastic};
 use crush::solver::particles::Particles;
 use crush::solver::scene::{Plate, Scene};
@@ -11,13 +11,17 @@ use nalgebra::Vector3;
 const RHO: f64 = 1.38e-3; // g/mm³ (PVC)
 
 /// A box of nx × ny × nz particles at spacing h (mm), cell 2h, no plates.
-fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind, transfer: Transfer) -> Scene {
+fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind) -> Scene {
     let mut p = Particles::default();
     for i in 0..n[0] {
         for j in 0..n[1] {
             for k in 0..n[2] {
                 let x = Vector3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * h;
-                p.push(x + Vector3::new(0.13, 0.29, 0.07), RHO * h * h * h, h * h * h);
+                p.push(
+                    x + Vector3::new(0.13, 0.29, 0.07),
+                    RHO * h * h * h,
+                    h * h * h,
+                );
             }
         }
     }
@@ -27,12 +31,12 @@ fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind, trans
         density: RHO,
         plates: vec![],
         friction: 0.0,
+        contact_zone: 1.0,
         cell: 2.0 * h,
         half_size: 0.5 * h,
         shape,
         cfl: 0.5,
-        transfer,
-        smooth_pressure: std::env::var("NOSMOOTH").is_err(),
+        average_volumetric: true,
         domain: [[-1e3; 3], [1e3; 3]],
     }
 }
@@ -42,22 +46,22 @@ fn pvc() -> Elastoplastic {
 }
 
 fn max_stress(sim: &Simulation) -> f64 {
-    sim.scene.particles.stress.iter().flat_map(|s| s.iter()).fold(0.0f64, |a, &b| a.max(b.abs()))
+    sim.scene
+        .particles
+        .stress
+        .iter()
+        .flat_map(|s| s.iter())
+        .fold(0.0f64, |a, &b| a.max(b.abs()))
 }
 
-/// The schemes a case may choose (linear APIC is rejected at validation).
-const SCHEMES: [(ShapeKind, Transfer); 3] = [
-    (ShapeKind::Linear, Transfer::Flip),
-    (ShapeKind::Gimp, Transfer::Flip),
-    (ShapeKind::Gimp, Transfer::Apic),
-];
+const SHAPES: [ShapeKind; 2] = [ShapeKind::Linear, ShapeKind::Gimp];
 
 /// A uniform velocity has zero gradient: Σ_i v ⊗ ∇N_i = v ⊗ Σ_i ∇N_i = 0 to round-off, so no
 /// stress may appear. Round-off after 300 steps: ~1e-13 · E · (v dt / cell) · steps ≪ 1e-9 MPa.
 #[test]
 fn rigid_translation_gives_zero_stress() {
-    for (shape, transfer) in SCHEMES {
-        let mut scene = block([6, 5, 4], 0.5, pvc(), shape, transfer);
+    for shape in SHAPES {
+        let mut scene = block([6, 5, 4], 0.5, pvc(), shape);
         let v = Vector3::new(3.0, -2.0, 1.0);
         scene.particles.v.iter_mut().for_each(|p| *p = v);
         let x0 = scene.particles.x.clone();
@@ -65,38 +69,48 @@ fn rigid_translation_gives_zero_stress() {
         for _ in 0..300 {
             sim.step(1.0).unwrap();
         }
-        assert!(max_stress(&sim) < 1e-9, "{shape:?} {transfer:?}: stress {}", max_stress(&sim));
+        assert!(
+            max_stress(&sim) < 1e-9,
+            "{shape:?}: stress {}",
+            max_stress(&sim)
+        );
         for (a, b) in x0.iter().zip(&sim.scene.particles.x) {
-            assert!((b - a - v * sim.time).norm() < 1e-9, "{shape:?} {transfer:?}: drifted");
+            assert!((b - a - v * sim.time).norm() < 1e-9, "{shape:?}: drifted");
         }
     }
 }
 
-/// With APIC the grid reproduces any affine velocity field exactly, so a rigid spin has
-/// L = W exactly, D = 0 and, with the objective Jaumann rate, no stress: after turning by
-/// 0.3 rad the stress must be at round-off level (< 1e-6 MPa, against σy = 65.5 MPa).
-/// (FLIP–MUSL averages particle velocities at boundary nodes, which is not rigid-rotation
-/// exact; its error is measured in docs, not asserted here.)
+/// A rigid spin by 0.2 rad must leave the block essentially unstressed. With an objective
+/// (Jaumann) rate and D = 0 the exact answer is zero; a missing or wrong rotation term would
+/// strain the material by O(θ) and put it at yield (σ ≈ σy). FLIP–MUSL is not exact at a
+/// free surface (the node velocity there is ω × the particles' centroid, not ω × the node), so
+/// the surface rings elastically: we measured 0.8–2.4 MPa for θ from 0.02 to 0.2 rad, for
+/// both shape functions. The bound is 5 % of σy.
 #[test]
-fn rigid_rotation_gives_zero_stress_with_apic() {
-    for shape in [ShapeKind::Linear, ShapeKind::Gimp] {
-        let transfer = if std::env::var("FLIPROT").is_ok() { Transfer::Flip } else { Transfer::Apic };
-        let mut scene = block([8, 8, 3], 0.5, pvc(), shape, transfer);
-        let centre = Vector3::new(2.0, 2.0, 0.75);
-        let omega = Vector3::new(0.0, 0.0, 2.0); // rad/ms
+fn rigid_rotation_gives_no_stress() {
+    for shape in SHAPES {
+        let mut scene = block([12, 12, 4], 0.5, pvc(), shape);
+        let centre = Vector3::new(3.0 + 0.13, 3.0 + 0.29, 1.0 + 0.07);
+        let omega = Vector3::new(0.0, 0.0, 0.5); // rad/ms
         let p = &mut scene.particles;
         for q in 0..p.len() {
             p.v[q] = omega.cross(&(p.x[q] - centre));
         }
+        let start = p.x.clone();
         let mut sim = Simulation::new(scene);
-        let mut c = sim.scene.particles.affine.clone();
-        c.iter_mut().for_each(|m| *m = omega.cross_matrix());
-        sim.scene.particles.affine = c;
-        while sim.time * omega.z < 0.3 {
+        while sim.time * omega.z < 0.2 {
             sim.step(1.0).unwrap();
         }
-        println!("{shape:?} {transfer:?} rot stress {:e} steps {}", max_stress(&sim), sim.steps);
-        assert!(max_stress(&sim) < 1e-6, "{shape:?}: stress {} MPa", max_stress(&sim));
+        let p = &sim.scene.particles;
+        let worst = p.stress.iter().map(von_mises).fold(0.0, f64::max);
+        assert!(
+            worst < 0.05 * 65.5,
+            "{shape:?}: von Mises {worst} MPa after a rigid spin"
+        );
+        // and the body did turn: a particle's angle about the centre advanced by 0.2 rad
+        let (r0, r1) = (start[0] - centre, p.x[0] - centre);
+        let turned = r1.y.atan2(r1.x) - r0.y.atan2(r0.x);
+        assert!(turned > 0.15, "turned only {turned} rad");
     }
 }
 
@@ -108,22 +122,16 @@ fn rigid_rotation_gives_zero_stress_with_apic() {
 /// particle quadrature adds a few tenths of a percent.
 #[test]
 fn elastic_wave_speed_in_a_bar() {
-    for (shape, transfer) in SCHEMES {
+    for shape in SHAPES {
         let (h, n) = (0.5, 80);
         let e = 3378.4;
-        let mut scene = block([n, 2, 2], h, Elastoplastic::new(e, 0.0, 1e30), shape, transfer);
+        let mut scene = block([n, 2, 2], h, Elastoplastic::new(e, 0.0, 1e30), shape);
         let len = n as f64 * h;
         let (x0, k) = (0.13, std::f64::consts::PI / len);
         for (v, x) in scene.particles.v.iter_mut().zip(&scene.particles.x) {
             v.x = 0.01 * (k * (x.x - x0)).cos();
         }
         let mut sim = Simulation::new(scene);
-        if transfer == Transfer::Apic {
-            let xs = sim.scene.particles.x.clone();
-            for (c, x) in sim.scene.particles.affine.iter_mut().zip(xs) {
-                c[(0, 0)] = -0.01 * k * (k * (x.x - x0)).sin();
-            }
-        }
         let quarter = len / (2.0 * (e / RHO).sqrt());
         let mut samples: Vec<(f64, f64)> = vec![];
         let found = loop {
@@ -131,7 +139,8 @@ fn elastic_wave_speed_in_a_bar() {
             samples.push((sim.time - 0.5 * info.dt, info.kinetic));
             let m = samples.len();
             if m >= 3 && samples[m - 1].1 > samples[m - 2].1 {
-                let ((t0, k0), (t1, k1), (t2, k2)) = (samples[m - 3], samples[m - 2], samples[m - 1]);
+                let ((t0, k0), (t1, k1), (t2, k2)) =
+                    (samples[m - 3], samples[m - 2], samples[m - 1]);
                 let num = (t1 - t0).powi(2) * (k1 - k2) - (t1 - t2).powi(2) * (k1 - k0);
                 let den = (t1 - t0) * (k1 - k2) - (t1 - t2) * (k1 - k0);
                 break t1 - 0.5 * num / den;
@@ -139,7 +148,7 @@ fn elastic_wave_speed_in_a_bar() {
             assert!(sim.time < 2.0 * quarter, "no minimum found");
         };
         let err = (found / quarter - 1.0).abs();
-        assert!(err < 0.01, "{shape:?} {transfer:?}: T/4 {found} vs {quarter} ({err:.4})");
+        assert!(err < 0.01, "{shape:?}: T/4 {found} vs {quarter} ({err:.4})");
     }
 }
 
@@ -148,8 +157,8 @@ fn elastic_wave_speed_in_a_bar() {
 /// (1e-10 relative) even while the pre-stressed block rings and yields.
 #[test]
 fn momentum_is_conserved_without_plates() {
-    for (shape, transfer) in SCHEMES {
-        let mut scene = block([7, 5, 6], 0.5, pvc(), shape, transfer);
+    for shape in SHAPES {
+        let mut scene = block([7, 5, 6], 0.5, pvc(), shape);
         let p = &mut scene.particles;
         for q in 0..p.len() {
             let s = (q as f64 * 0.7).sin();
@@ -162,85 +171,65 @@ fn momentum_is_conserved_without_plates() {
             sim.step(1.0).unwrap();
         }
         let after = sim.scene.particles.momentum();
-        println!("{shape:?} {transfer:?}: {:e}", (after - before).norm() / before.norm());
-        assert!((after - before).norm() < 1e-10 * before.norm(), "{shape:?} {transfer:?}: {before} → {after}");
-        assert!(sim.scene.particles.plastic_strain.iter().any(|&e| e > 0.0), "test should reach yield");
+        assert!(
+            (after - before).norm() < 1e-10 * before.norm(),
+            "{shape:?}: {before} → {after}"
+        );
+        assert!(
+            sim.scene.particles.plastic_strain.iter().any(|&e| e > 0.0),
+            "test should reach yield"
+        );
     }
 }
 
-/// A block squeezed between frictionless plates is in uniaxial stress: once yielded, the
-/// axial stress is σy. Plate speed 0.2 m/s keeps the stress wave ρcv ≈ 0.7 MPa, about 1 % of
-/// σy, so the mean axial stress and the plate load over the current area must be within 3 %
-/// of σy, and no particle may exceed the yield surface.
+/// A block (3 × 3 × 6 mm) squeezed between frictionless plates past three times its yield
+/// strain: the load must settle at σy times the current area. Bounds: 0.95 below (perfect
+/// plasticity cannot carry less than σy in compression; 1 % for the stress wave ρcv ≈ 0.7 MPa,
+/// 4 % for the area, estimated as total volume over plate gap); 1.13 above, because the one-cell contact zone moves with the plate and
+/// acts as a rigid, sticking end cap: the classic upper bound for compressing a block with
+/// sticking ends, p̄/σy = 1 + m d / (3√3 h) with m = 1, d/h = 0.5, gives 1.096, plus 3 %.
+/// No particle may ever lie outside the yield surface.
 #[test]
 fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
-    let h = 0.5;
-    let n = [6, 6, 12];
-    let mat = if std::env::var("ELASTIC").is_ok() { Elastoplastic::new(3378.4, 0.42, 1e30) } else { pvc() };
-    let shape = if std::env::var("LIN").is_ok() { ShapeKind::Linear } else { ShapeKind::Gimp };
-    let tr = if std::env::var("APIC").is_ok() { Transfer::Apic } else { Transfer::Flip };
-    let mut scene = block(n, h, mat, shape, tr);
-    let top = 12.0 * h + 0.07;
-    scene.plates = vec![
-        Plate { z: top, side: 1.0, velocity: -0.2 },
-        Plate { z: 0.07, side: -1.0, velocity: 0.0 },
-    ];
-    let mut sim = Simulation::new(scene);
-    let yield_strain = 65.5 / 3378.4;
-    let (mut impulse, mut span) = (0.0, 0.0);
-    let target = if std::env::var("ELASTIC").is_ok() { 0.5 } else { 3.0 };
-    while sim.time * 0.2 < target * yield_strain * top {
-        let info = sim.step(1.0).unwrap();
-        if sim.time * 0.2 > 2.5 * yield_strain * top {
+    for shape in SHAPES {
+        let h = 0.5;
+        let mut scene = block([6, 6, 12], h, pvc(), shape);
+        let top = 12.0 * h + 0.07;
+        scene.plates = vec![
+            Plate {
+                z: top,
+                side: 1.0,
+                velocity: -0.2,
+            },
+            Plate {
+                z: 0.07,
+                side: -1.0,
+                velocity: 0.0,
+            },
+        ];
+        let mut sim = Simulation::new(scene);
+        let yield_strain = 65.5 / 3378.4;
+        let (mut impulse, mut span) = (0.0, 0.0);
+        let mut ratios = vec![];
+        while sim.time * 0.2 < 3.0 * yield_strain * top {
+            let info = sim.step(1.0).unwrap();
             impulse += info.contact.impulse[0];
             span += info.dt;
+            if sim.steps % 500 == 0 {
+                let p = &sim.scene.particles;
+                assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
+                let height = sim.scene.plates[0].z - sim.scene.plates[1].z;
+                let area = p.vol.iter().sum::<f64>() / height;
+                if sim.time * 0.2 > 2.0 * yield_strain * top {
+                    ratios.push(impulse / span / area / 65.5);
+                }
+                impulse = 0.0;
+                span = 0.0;
+            }
         }
-    }
-    let p = &sim.scene.particles;
-    for layer in 0..12 {
-        let sel: Vec<usize> = (0..p.len()).filter(|&q| q % 12 == layer).collect();
-        let avg = |f: &dyn Fn(usize) -> f64| sel.iter().map(|&q| f(q)).sum::<f64>() / sel.len() as f64;
-        println!("layer {layer} z {:.3} sxx {:.2} szz {:.2} ep {:.4} x-spread {:.3}", avg(&|q| p.x[q].z), avg(&|q| p.stress[q][0]), avg(&|q| p.stress[q][2]), avg(&|q| p.plastic_strain[q]),
-          sel.iter().map(|&q| p.x[q].x).fold(f64::MIN, f64::max) - sel.iter().map(|&q| p.x[q].x).fold(f64::MAX, f64::min));
-    }
-    println!("zmin {:.3} zmax {:.3} vol {:.4} (initial {:.4}) plates {:?}", p.x.iter().map(|x| x.z).fold(f64::MAX, f64::min), p.x.iter().map(|x| x.z).fold(f64::MIN, f64::max), p.vol.iter().sum::<f64>(), 0.125 * p.len() as f64, sim.scene.plates);
-    let mean_szz = p.stress.iter().map(|s| s[2]).sum::<f64>() / p.len() as f64;
-    assert!((mean_szz / -65.5 - 1.0).abs() < 0.03, "mean σzz {mean_szz}");
-    assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
-    let height = sim.scene.plates[0].z - sim.scene.plates[1].z;
-    let area = p.vol.iter().sum::<f64>() / height;
-    let load = impulse / span;
-    assert!((load / area / 65.5 - 1.0).abs() < 0.03, "load {load} N over {area} mm²");
-}
-
-#[test]
-#[ignore]
-fn debug_translation() {
-    for (shape, transfer) in SCHEMES {
-        let mut scene = block([6, 5, 4], 0.5, pvc(), shape, transfer);
-        let v = Vector3::new(3.0, -2.0, 1.0);
-        scene.particles.v.iter_mut().for_each(|p| *p = v);
-        let mut sim = Simulation::new(scene);
-        for s in 0..300 {
-            if let Err(e) = sim.step(1.0) { println!("{shape:?} {transfer:?} {e}"); break; }
-            if s % 30 == 0 || s < 3 { println!("{shape:?} {transfer:?} step {s} stress {:.3e} blocks {} vmax {:.3e}", max_stress(&sim), sim.grid.len(), sim.scene.particles.v.iter().map(|v| v.norm()).fold(0.0, f64::max)); }
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_apic() {
-    let mut scene = block([6, 5, 4], 0.5, pvc(), ShapeKind::Linear, Transfer::Apic);
-    let v = Vector3::new(3.0, -2.0, 1.0);
-    scene.particles.v.iter_mut().for_each(|p| *p = v);
-    let mut sim = Simulation::new(scene);
-    for s in 0..215 {
-        if let Err(e) = sim.step(1.0) { println!("{e}"); break; }
-        if s >= 205 {
-            let p = &sim.scene.particles;
-            let worst = (0..p.len()).max_by(|&a, &b| p.affine[a].norm().partial_cmp(&p.affine[b].norm()).unwrap()).unwrap();
-            println!("step {s} blocks {:?} worst {worst} x {:?} v {:?} L {:.3e} vol {:.4e}", sim.grid.blocks, p.x[worst], p.v[worst], p.affine[worst].norm(), p.vol[worst]);
+        assert!(ratios.len() >= 3);
+        for r in ratios {
+            assert!((0.95..1.13).contains(&r), "{shape:?}: load / (σy A) = {r}");
         }
     }
 }

@@ -75,7 +75,11 @@ mod tests {
     use super::*;
 
     fn top(speed: Real) -> Vec<Plate> {
-        vec![Plate { z: 10.0, side: 1.0, velocity: -speed }]
+        vec![Plate {
+            z: 10.0,
+            side: 1.0,
+            velocity: -speed,
+        }]
     }
 
     #[test]
@@ -102,7 +106,11 @@ mod tests {
 
     #[test]
     fn friction_caps_the_tangential_impulse_at_mu_times_normal() {
-        let plates = vec![Plate { z: 0.0, side: -1.0, velocity: 0.0 }];
+        let plates = vec![Plate {
+            z: 0.0,
+            side: -1.0,
+            velocity: 0.0,
+        }];
         // normal approach 1, slide 10, μ = 0.2: tangential impulse 0.2 → slide 9.8
         let mut v = Vector3::new(10.0, 0.0, -1.0);
         let mut s = ContactSums::default();

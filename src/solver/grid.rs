@@ -34,8 +34,7 @@ pub struct Node {
     pub mass: Real,
     pub a: [Real; 3],
     pub b: [Real; 3],
-    /// Mass-weighted particle pressure, then (after the grid update) the nodal pressure, MPa.
-    pub pressure: Real,
+    _pad: Real,
 }
 
 /// The sparse grid and the binning of particles into its blocks.
@@ -57,6 +56,11 @@ pub struct Grid {
     pub order: Vec<u32>,
     /// Block of each particle's cell.
     pub home: Vec<u32>,
+    /// Each particle's cell within its block, 0..64.
+    pub cell_of: Vec<u8>,
+    /// Per block and cell: volume-weighted dilation rate (1/ms) and pressure (MPa) averages.
+    pub cell_dilation: Vec<[Real; 64]>,
+    pub cell_pressure: Vec<[Real; 64]>,
     pub padded: Vec<Node>,
     pub owned: Vec<Node>,
     cursor: Vec<u32>,
@@ -76,7 +80,11 @@ pub fn padded_index(i: usize, j: usize, k: usize) -> usize {
 
 impl Grid {
     pub fn new(cell: Real) -> Grid {
-        Grid { cell, inv_cell: 1.0 / cell, ..Default::default() }
+        Grid {
+            cell,
+            inv_cell: 1.0 / cell,
+            ..Default::default()
+        }
     }
 
     /// Number of active blocks.
@@ -110,22 +118,31 @@ impl Grid {
         }
         // One block of margin for stencils that spill over, one more for neighbour look-ups.
         self.lo = [bmin[0] - 2, bmin[1] - 2, bmin[2] - 2];
-        self.dim = [bmax[0] - bmin[0] + 5, bmax[1] - bmin[1] + 5, bmax[2] - bmin[2] + 5];
+        self.dim = [
+            bmax[0] - bmin[0] + 5,
+            bmax[1] - bmin[1] + 5,
+            bmax[2] - bmin[2] + 5,
+        ];
         let size = (self.dim[0] * self.dim[1] * self.dim[2]) as usize;
         self.table.clear();
         self.table.resize(size, NONE);
         self.home.resize(x.len(), 0);
+        self.cell_of.resize(x.len(), 0);
         for (q, p) in x.iter().enumerate() {
             let mut lo = [0; 3];
             let mut hi = [0; 3];
             let mut own = [0; 3];
+            let mut cell = [0; 3];
             for a in 0..3 {
                 let g = p[a] * inv;
                 let (base, _, _) = S::eval(g, lp);
                 lo[a] = base.div_euclid(BLOCK);
                 hi[a] = (base + S::N as i32 - 1).div_euclid(BLOCK);
-                own[a] = (g.floor() as i32).div_euclid(BLOCK);
+                let c = g.floor() as i32;
+                own[a] = c.div_euclid(BLOCK);
+                cell[a] = c.rem_euclid(BLOCK);
             }
+            self.cell_of[q] = ((cell[0] * 4 + cell[1]) * 4 + cell[2]) as u8;
             for i in lo[0]..=hi[0] {
                 for j in lo[1]..=hi[1] {
                     for k in lo[2]..=hi[2] {
@@ -140,8 +157,15 @@ impl Grid {
         for t in 0..size {
             if self.table[t] == MARK {
                 self.table[t] = self.blocks.len() as u32;
-                let (i, rest) = (t as i32 / (self.dim[1] * self.dim[2]), t as i32 % (self.dim[1] * self.dim[2]));
-                self.blocks.push([self.lo[0] + i, self.lo[1] + rest / self.dim[2], self.lo[2] + rest % self.dim[2]]);
+                let (i, rest) = (
+                    t as i32 / (self.dim[1] * self.dim[2]),
+                    t as i32 % (self.dim[1] * self.dim[2]),
+                );
+                self.blocks.push([
+                    self.lo[0] + i,
+                    self.lo[1] + rest / self.dim[2],
+                    self.lo[2] + rest % self.dim[2],
+                ]);
             }
         }
         let nb = self.blocks.len();
@@ -177,6 +201,8 @@ impl Grid {
                 }
             }
         }
+        self.cell_dilation.resize(nb, [0.0; 64]);
+        self.cell_pressure.resize(nb, [0.0; 64]);
         self.padded.resize(nb * PADDED, Node::default());
         self.owned.resize(nb * OWNED, Node::default());
     }
@@ -200,75 +226,84 @@ impl Grid {
     pub fn reduce(&mut self, all: bool) {
         let padded = &self.padded;
         let neighbors = &self.neighbors;
-        self.owned.par_chunks_mut(OWNED).enumerate().for_each(|(b, own)| {
-            for n in own.iter_mut() {
-                if all {
-                    *n = Node::default();
-                } else {
-                    n.a = [0.0; 3];
+        self.owned
+            .par_chunks_mut(OWNED)
+            .enumerate()
+            .for_each(|(b, own)| {
+                for n in own.iter_mut() {
+                    if all {
+                        *n = Node::default();
+                    } else {
+                        n.a = [0.0; 3];
+                    }
                 }
-            }
-            for (k, &nb) in neighbors[b].iter().enumerate() {
-                if nb == NONE {
-                    continue;
-                }
-                let d = [k as i32 / 9 - 1, (k as i32 / 3) % 3 - 1, k as i32 % 3 - 1];
-                let src = &padded[nb as usize * PADDED..(nb as usize + 1) * PADDED];
-                let (rx, ry, rz) = (overlap(d[0]), overlap(d[1]), overlap(d[2]));
-                for lx in rx.0..=rx.1 {
-                    for ly in ry.0..=ry.1 {
-                        for lz in rz.0..=rz.1 {
-                            let s = &src[padded_index(
-                                (lx - 4 * d[0] + 1) as usize,
-                                (ly - 4 * d[1] + 1) as usize,
-                                (lz - 4 * d[2] + 1) as usize,
-                            )];
-                            let o = &mut own[((lx * 4 + ly) * 4 + lz) as usize];
-                            for c in 0..3 {
-                                o.a[c] += s.a[c];
-                            }
-                            if all {
-                                o.mass += s.mass;
-                                o.pressure += s.pressure;
+                for (k, &nb) in neighbors[b].iter().enumerate() {
+                    if nb == NONE {
+                        continue;
+                    }
+                    let d = [k as i32 / 9 - 1, (k as i32 / 3) % 3 - 1, k as i32 % 3 - 1];
+                    let src = &padded[nb as usize * PADDED..(nb as usize + 1) * PADDED];
+                    let (rx, ry, rz) = (overlap(d[0]), overlap(d[1]), overlap(d[2]));
+                    for lx in rx.0..=rx.1 {
+                        for ly in ry.0..=ry.1 {
+                            for lz in rz.0..=rz.1 {
+                                let s = &src[padded_index(
+                                    (lx - 4 * d[0] + 1) as usize,
+                                    (ly - 4 * d[1] + 1) as usize,
+                                    (lz - 4 * d[2] + 1) as usize,
+                                )];
+                                let o = &mut own[((lx * 4 + ly) * 4 + lz) as usize];
                                 for c in 0..3 {
-                                    o.b[c] += s.b[c];
+                                    o.a[c] += s.a[c];
+                                }
+                                if all {
+                                    o.mass += s.mass;
+                                    for c in 0..3 {
+                                        o.b[c] += s.b[c];
+                                    }
                                 }
                             }
                         }
                     }
                 }
-            }
-        });
+            });
     }
 
     /// Copies the owned nodes into every padded buffer that holds them.
     pub fn broadcast(&mut self) {
         let owned = &self.owned;
         let neighbors = &self.neighbors;
-        self.padded.par_chunks_mut(PADDED).enumerate().for_each(|(b, pad)| {
-            for i in 0..PAD {
-                let (dx, lx) = split(i);
-                for j in 0..PAD {
-                    let (dy, ly) = split(j);
-                    for k in 0..PAD {
-                        let (dz, lz) = split(k);
-                        let nb = neighbors[b][neighbor_index([dx, dy, dz])];
-                        pad[padded_index(i, j, k)] = if nb == NONE {
-                            Node::default()
-                        } else {
-                            owned[nb as usize * OWNED + ((lx * 4 + ly) * 4 + lz) as usize]
-                        };
+        self.padded
+            .par_chunks_mut(PADDED)
+            .enumerate()
+            .for_each(|(b, pad)| {
+                for i in 0..PAD {
+                    let (dx, lx) = split(i);
+                    for j in 0..PAD {
+                        let (dy, ly) = split(j);
+                        for k in 0..PAD {
+                            let (dz, lz) = split(k);
+                            let nb = neighbors[b][neighbor_index([dx, dy, dz])];
+                            pad[padded_index(i, j, k)] = if nb == NONE {
+                                Node::default()
+                            } else {
+                                owned[nb as usize * OWNED + ((lx * 4 + ly) * 4 + lz) as usize]
+                            };
+                        }
                     }
                 }
-            }
-        });
+            });
     }
 
     /// Node position of owned node `local` of block `b`, mm.
     #[inline(always)]
     pub fn owned_position(&self, b: usize, local: usize) -> Vector3<Real> {
         let c = self.blocks[b];
-        let (i, j, k) = ((local / 16) as i32, ((local / 4) % 4) as i32, (local % 4) as i32);
+        let (i, j, k) = (
+            (local / 16) as i32,
+            ((local / 4) % 4) as i32,
+            (local % 4) as i32,
+        );
         Vector3::new(
             (c[0] * BLOCK + i) as Real * self.cell,
             (c[1] * BLOCK + j) as Real * self.cell,
@@ -285,6 +320,9 @@ impl Grid {
             + (self.table.capacity() + self.starts.capacity() + self.order.capacity())
                 * size_of::<u32>()
             + (self.home.capacity() + self.cursor.capacity()) * size_of::<u32>()
+            + self.cell_of.capacity()
+            + (self.cell_dilation.capacity() + self.cell_pressure.capacity())
+                * size_of::<[Real; 64]>()
     }
 }
 
@@ -322,7 +360,11 @@ mod tests {
         let mut x = Vec::new();
         for i in 0..40 {
             for j in 0..7 {
-                x.push(Vector3::new(-3.1 + 0.37 * i as Real, 0.29 * j as Real, 1.7 - 0.41 * j as Real));
+                x.push(Vector3::new(
+                    -3.1 + 0.37 * i as Real,
+                    0.29 * j as Real,
+                    1.7 - 0.41 * j as Real,
+                ));
             }
         }
         let mut g = Grid::new(0.5);
@@ -333,7 +375,9 @@ mod tests {
             let pad = &mut g.padded[b * PADDED..(b + 1) * PADDED];
             pad.iter_mut().for_each(|n| *n = Node::default());
             for &p in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
-                let e: Vec<_> = (0..3).map(|a| S::eval(x[p as usize][a] * 2.0, lp)).collect();
+                let e: Vec<_> = (0..3)
+                    .map(|a| S::eval(x[p as usize][a] * 2.0, lp))
+                    .collect();
                 for i in 0..S::N {
                     for j in 0..S::N {
                         for k in 0..S::N {
@@ -356,12 +400,25 @@ mod tests {
         for b in 0..g.len() {
             let o = g.padded_origin(b);
             for (q, n) in g.padded[b * PADDED..(b + 1) * PADDED].iter().enumerate() {
-                let node = [o[0] + (q / 49) as i32, o[1] + ((q / 7) % 7) as i32, o[2] + (q % 7) as i32];
-                let blk = [node[0].div_euclid(4), node[1].div_euclid(4), node[2].div_euclid(4)];
+                let node = [
+                    o[0] + (q / 49) as i32,
+                    o[1] + ((q / 7) % 7) as i32,
+                    o[2] + (q % 7) as i32,
+                ];
+                let blk = [
+                    node[0].div_euclid(4),
+                    node[1].div_euclid(4),
+                    node[2].div_euclid(4),
+                ];
                 let owner = g.lookup(blk);
                 if owner != NONE {
-                    let l = [node[0].rem_euclid(4), node[1].rem_euclid(4), node[2].rem_euclid(4)];
-                    let on = g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
+                    let l = [
+                        node[0].rem_euclid(4),
+                        node[1].rem_euclid(4),
+                        node[2].rem_euclid(4),
+                    ];
+                    let on =
+                        g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
                     assert_eq!(n.mass, on.mass);
                 }
             }

@@ -12,7 +12,14 @@ pub fn to_matrix(s: &Sym) -> Matrix3<Real> {
 }
 
 pub fn from_matrix(m: &Matrix3<Real>) -> Sym {
-    [m[(0, 0)], m[(1, 1)], m[(2, 2)], m[(1, 2)], m[(0, 2)], m[(0, 1)]]
+    [
+        m[(0, 0)],
+        m[(1, 1)],
+        m[(2, 2)],
+        m[(1, 2)],
+        m[(0, 2)],
+        m[(0, 1)],
+    ]
 }
 
 /// Elastic constants and yield stress.
@@ -39,7 +46,11 @@ impl Elastoplastic {
     pub fn new(youngs: Real, poisson: Real, yield_stress: Real) -> Self {
         let lambda = youngs * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
         let shear = youngs / (2.0 * (1.0 + poisson));
-        Elastoplastic { lambda, shear, yield_stress }
+        Elastoplastic {
+            lambda,
+            shear,
+            yield_stress,
+        }
     }
 
     /// P-wave (constrained) modulus λ + 2G, MPa: c² = M / ρ.
@@ -50,7 +61,13 @@ impl Elastoplastic {
     /// Advances `stress` by one step under velocity gradient `l` over `dt`, with the yield stress
     /// scaled by `yield_scale` (weak trigger particles have < 1).
     #[inline]
-    pub fn update(&self, stress: &mut Sym, l: &Matrix3<Real>, dt: Real, yield_scale: Real) -> Increment {
+    pub fn update(
+        &self,
+        stress: &mut Sym,
+        l: &Matrix3<Real>,
+        dt: Real,
+        yield_scale: Real,
+    ) -> Increment {
         let d = 0.5 * (l + l.transpose());
         let w = 0.5 * (l - l.transpose());
         let old = to_matrix(stress);
@@ -76,7 +93,10 @@ impl Elastoplastic {
         }
         let stress_power = 0.5 * (old + s).component_mul(&d).sum();
         *stress = from_matrix(&s);
-        Increment { plastic_strain, stress_power }
+        Increment {
+            plastic_strain,
+            stress_power,
+        }
     }
 }
 
@@ -121,7 +141,12 @@ mod tests {
             let elastic = E * strain;
             if elastic < 0.99 * SY {
                 // Hypoelastic update with small steps: within 0.5 % of Hooke's law.
-                assert!((s[0] - elastic).abs() < 5e-3 * elastic, "{} vs {}", s[0], elastic);
+                assert!(
+                    (s[0] - elastic).abs() < 5e-3 * elastic,
+                    "{} vs {}",
+                    s[0],
+                    elastic
+                );
             }
             assert!(s[0] <= SY * (1.0 + 1e-9), "overshoot {}", s[0]);
             assert!(s[1].abs() < 1e-6 * SY && s[2].abs() < 1e-6 * SY);

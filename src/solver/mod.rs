@@ -6,24 +6,26 @@
 
 pub mod case;
 pub mod contact;
+pub mod estimate;
 pub mod grid;
+pub mod history;
 pub mod material;
+pub mod mode;
+pub mod observer;
 pub mod particles;
+pub mod reference;
 pub mod scene;
 pub mod shape;
 pub mod step;
-pub mod estimate;
-pub mod history;
-pub mod mode;
-pub mod observer;
-pub mod reference;
 pub mod summary;
 
 pub use case::{Case, CaseError, CaseSpec, FieldError, Limits};
 pub use estimate::{estimate, Estimate};
 pub use history::HistoryRow;
+pub use mode::{detect_mode, ModeDetail};
 pub use observer::{Observer, Progress, Recorder};
-pub use summary::{CollapseMode, RunCost, Summary};
+pub use reference::{references, References};
+pub use summary::{summarize, CollapseMode, RunCost, Summary};
 
 /// The floating-point type of all solver state.
 pub type Real = f64;
@@ -54,7 +56,11 @@ pub enum SolveError {
     Cancelled { step: u64 },
     /// The numbers went bad: which quantity, where and when.
     #[error("unstable at step {step} (t = {time_ms:.6} ms): {what}")]
-    Unstable { step: u64, time_ms: f64, what: String },
+    Unstable {
+        step: u64,
+        time_ms: f64,
+        what: String,
+    },
 }
 
 mod run;

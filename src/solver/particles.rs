@@ -17,9 +17,8 @@ pub struct Particles {
     pub vol: Vec<Real>,
     /// Equivalent plastic strain.
     pub plastic_strain: Vec<Real>,
-    /// Velocity gradient of the last step (1/ms): the affine part of the particle's velocity
-    /// field, carried to the grid by the APIC transfer.
-    pub affine: Vec<Matrix3<Real>>,
+    /// Velocity gradient of the current step (1/ms), between kinematics and stress update.
+    pub grad: Vec<Matrix3<Real>>,
     /// Yield stress factor per particle; empty when the scene has no weak particles.
     pub yield_scale: Vec<Real>,
 }
@@ -50,7 +49,11 @@ impl Particles {
 
     /// Total kinetic energy, mJ.
     pub fn kinetic_energy(&self) -> Real {
-        self.v.iter().zip(&self.mass).map(|(v, m)| 0.5 * m * v.norm_squared()).sum()
+        self.v
+            .iter()
+            .zip(&self.mass)
+            .map(|(v, m)| 0.5 * m * v.norm_squared())
+            .sum()
     }
 
     /// Bytes held per particle by these arrays (capacity, not length).
@@ -59,8 +62,9 @@ impl Particles {
         self.x.capacity() * size_of::<Vector3<Real>>()
             + self.v.capacity() * size_of::<Vector3<Real>>()
             + self.stress.capacity() * size_of::<Sym>()
-            + (self.mass.capacity() + self.vol.capacity() + self.plastic_strain.capacity()) * size_of::<Real>()
-            + self.affine.capacity() * size_of::<Matrix3<Real>>()
+            + (self.mass.capacity() + self.vol.capacity() + self.plastic_strain.capacity())
+                * size_of::<Real>()
+            + self.grad.capacity() * size_of::<Matrix3<Real>>()
             + self.yield_scale.capacity() * size_of::<Real>()
     }
 }

@@ -13,7 +13,11 @@ use std::time::Instant;
 
 /// Runs a case to the end on the current rayon pool, reporting through `observer` once per
 /// history row; stops within one step once `cancel` is set.
-pub fn run(case: &Case, observer: &mut dyn Observer, cancel: &AtomicBool) -> Result<RunOutput, SolveError> {
+pub fn run(
+    case: &Case,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
     let start = Instant::now();
     let spec = case.spec();
     let mut sim = Simulation::new(Scene::from_case(case));
@@ -22,7 +26,10 @@ pub fn run(case: &Case, observer: &mut dyn Observer, cancel: &AtomicBool) -> Res
     let points = spec.output.history_points as usize;
     let duration = crush / speed;
     let mut rows = Vec::with_capacity(points);
-    let mut cost = RunCost { dt_min_ms: Real::INFINITY, ..Default::default() };
+    let mut cost = RunCost {
+        dt_min_ms: Real::INFINITY,
+        ..Default::default()
+    };
     let (mut gap_sum, mut gap_rows) = (0.0, 0u32);
     for k in 1..=points {
         let end = duration * k as Real / points as Real;
@@ -75,8 +82,14 @@ pub fn run(case: &Case, observer: &mut dyn Observer, cancel: &AtomicBool) -> Res
     }
     let p = &sim.scene.particles;
     let t = spec.tube.thickness_mm;
-    let initial = tube_lattice(t, spec.tube.mean_diameter_mm, spec.tube.length_mm,
-        spec.discretization.particles_through_thickness, 1.0, spec.loading.mode);
+    let initial = tube_lattice(
+        t,
+        spec.tube.mean_diameter_mm,
+        spec.tube.length_mm,
+        spec.discretization.particles_through_thickness,
+        1.0,
+        spec.loading.mode,
+    );
     let snapshot = Snapshot {
         initial_mm: initial.x.iter().map(|x| [x.x, x.y, x.z]).collect(),
         position_mm: p.x.iter().map(|x| [x.x, x.y, x.z]).collect(),
@@ -87,9 +100,17 @@ pub fn run(case: &Case, observer: &mut dyn Observer, cancel: &AtomicBool) -> Res
     cost.wall_time_s = start.elapsed().as_secs_f64();
     cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
     cost.threads = rayon::current_num_threads() as u32;
-    cost.contact_gap_mm = if gap_rows > 0 { gap_sum / gap_rows as Real } else { 0.0 };
+    cost.contact_gap_mm = if gap_rows > 0 {
+        gap_sum / gap_rows as Real
+    } else {
+        0.0
+    };
     let summary = summary::summarize(case, &rows, &snapshot, cost);
-    Ok(RunOutput { history: rows, summary, snapshot })
+    Ok(RunOutput {
+        history: rows,
+        summary,
+        snapshot,
+    })
 }
 
 /// Kinetic energy can never exceed the work the plates put in (the tube starts at rest);

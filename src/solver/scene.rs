@@ -23,8 +23,6 @@ pub struct Plate {
     pub velocity: Real,
 }
 
-pub use super::case::Transfer;
-
 /// Everything the engine needs; tests build their own.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -34,16 +32,16 @@ pub struct Scene {
     pub density: Real,
     pub plates: Vec<Plate>,
     pub friction: Real,
+    /// Nodes nearer a plate than this many cells (or beyond it) are in its contact zone.
+    pub contact_zone: Real,
     /// Background cell size, mm.
     pub cell: Real,
     /// Half the particle spacing, mm (uGIMP particle half-width).
     pub half_size: Real,
     pub shape: ShapeKind,
     pub cfl: Real,
-    pub transfer: Transfer,
-    /// Replace each particle's pressure by the pressure field interpolated from the nodes, every
-    /// step: one pressure unknown per node instead of per particle, against volumetric locking.
-    pub smooth_pressure: bool,
+    /// Cell-averaged dilation and pressure (see `Discretization::volumetric_averaging`).
+    pub average_volumetric: bool,
     /// Particles must stay inside this box (mm); leaving it is reported as an instability.
     pub domain: [[Real; 3]; 2],
 }
@@ -56,10 +54,21 @@ impl Scene {
     /// The tube and plates a case describes, with the trigger's weak particles.
     pub fn from_case(case: &Case) -> Scene {
         let spec = case.spec();
-        let (t, d, l) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm, spec.tube.length_mm);
+        let (t, d, l) = (
+            spec.tube.thickness_mm,
+            spec.tube.mean_diameter_mm,
+            spec.tube.length_mm,
+        );
         let h = case.spacing_mm();
         let rho = spec.material.density_kg_m3 * 1e-6;
-        let particles = tube_lattice(t, d, l, spec.discretization.particles_through_thickness, rho, spec.loading.mode);
+        let particles = tube_lattice(
+            t,
+            d,
+            l,
+            spec.discretization.particles_through_thickness,
+            rho,
+            spec.loading.mode,
+        );
         let m = &spec.material;
         let yield_stress = match m.model {
             MaterialModel::J2 => m.yield_stress_mpa,
@@ -76,23 +85,34 @@ impl Scene {
         let margin = 3.0 * cell;
         let domain = match spec.loading.mode {
             LoadingMode::Axial => [[-reach, -reach, -margin], [reach, reach, l + margin]],
-            LoadingMode::Lateral => [[-reach, -reach, -outer - margin], [l + reach, reach, outer + margin]],
+            LoadingMode::Lateral => [
+                [-reach, -reach, -outer - margin],
+                [l + reach, reach, outer + margin],
+            ],
         };
         let mut scene = Scene {
             particles,
             material: Elastoplastic::new(m.youngs_modulus_mpa, m.poisson_ratio, yield_stress),
             density: rho,
             plates: vec![
-                Plate { z: top, side: 1.0, velocity: -speed },
-                Plate { z: bottom, side: -1.0, velocity: 0.0 },
+                Plate {
+                    z: top,
+                    side: 1.0,
+                    velocity: -speed,
+                },
+                Plate {
+                    z: bottom,
+                    side: -1.0,
+                    velocity: 0.0,
+                },
             ],
             friction: spec.contact.friction,
+            contact_zone: 1.0,
             cell,
             half_size: 0.5 * h,
             shape: spec.discretization.shape,
             cfl: spec.discretization.cfl,
-            transfer: spec.discretization.transfer,
-            smooth_pressure: spec.discretization.pressure_smoothing,
+            average_volumetric: spec.discretization.volumetric_averaging,
             domain,
         };
         let trigger = &spec.trigger;
@@ -126,7 +146,11 @@ pub fn tube_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, mode: LoadingM
             let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
             let r = 0.5 * (r0 + r1);
             let count = around(r, h) as usize;
-            (r, count, 0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz)
+            (
+                r,
+                count,
+                0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
+            )
         })
         .collect();
     let mut p = Particles::default();
@@ -188,11 +212,17 @@ mod tests {
 
     #[test]
     fn scene_counts_what_the_case_promised() {
-        let case = Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
+        let case =
+            Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
         let scene = Scene::from_case(&case);
         assert_eq!(scene.particles.len() as u64, case.particle_count());
         // Lateral: every particle between the plates, axis along x.
-        let zmax = scene.particles.x.iter().map(|x| x.z).fold(Real::MIN, Real::max);
+        let zmax = scene
+            .particles
+            .x
+            .iter()
+            .map(|x| x.z)
+            .fold(Real::MIN, Real::max);
         assert!(zmax < scene.plates[TOP].z && zmax > scene.plates[TOP].z - case.spacing_mm());
     }
 
@@ -206,6 +236,9 @@ mod tests {
         let weak = a.particles.yield_scale.iter().filter(|&&s| s < 1.0).count();
         assert_eq!(weak, (0.003 * a.particles.len() as f64).round() as usize);
         let other = Case::from_json(&text.replace("7", "8"), &Limits::default()).unwrap();
-        assert_ne!(Scene::from_case(&other).particles.yield_scale, a.particles.yield_scale);
+        assert_ne!(
+            Scene::from_case(&other).particles.yield_scale,
+            a.particles.yield_scale
+        );
     }
 }

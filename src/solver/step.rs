@@ -6,7 +6,8 @@
 //! The velocity gradient always comes from the remapped grid velocities: a node that a particle
 //! barely touches gets a huge velocity from f/m in the grid update, and with linear shape
 //! functions its gradient weight does not vanish, so a gradient taken from those velocities
-//! (USL) blows up at cell crossings. We saw exactly that with linear APIC without the remap.
+//! (USL) blows up at cell crossings. (We tried an APIC transfer without the remap: it blew up
+//! exactly so with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
 //! Node accumulators (`grid::Node`) by phase: after the first p2g, `a` = momentum and
 //! `b` = force; after the grid update, `a` = new velocity and `b` = velocity change; after the
@@ -15,7 +16,7 @@
 use super::contact::{self, ContactSums};
 use super::grid::{padded_index, Grid, Node, OWNED, PADDED};
 use super::material::to_matrix;
-use super::scene::{Scene, Transfer};
+use super::scene::Scene;
 use super::shape::{Gimp, Linear, Stencil};
 use super::{case::ShapeKind, Real, SolveError};
 use nalgebra::{Matrix3, Vector3};
@@ -76,10 +77,15 @@ impl Simulation {
     pub fn new(scene: Scene) -> Simulation {
         let n = scene.particles.len();
         let mut scene = scene;
-        scene.particles.affine.resize(n, Matrix3::zeros());
+        scene.particles.grad.resize(n, Matrix3::zeros());
         let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
         let c = scene.wave_speed();
-        let vmax = scene.particles.v.iter().map(|v| v.norm()).fold(0.0, Real::max);
+        let vmax = scene
+            .particles
+            .v
+            .iter()
+            .map(|v| v.norm())
+            .fold(0.0, Real::max);
         let grid = Grid::new(scene.cell);
         Simulation {
             scene,
@@ -118,21 +124,26 @@ impl Simulation {
 
     fn advance<S: Stencil>(&mut self, dt: Real) -> Result<StepInfo, SolveError> {
         let lp = self.scene.half_size / self.scene.cell;
-        let apic = self.scene.transfer == Transfer::Apic;
         self.grid.bin::<S>(&self.scene.particles.x, lp);
         self.p2g::<S>(lp, true);
         self.grid.reduce(true);
         let contact = self.grid_update(dt);
         self.grid.broadcast();
-        self.g2p_velocity::<S>(lp, apic);
+        self.g2p_velocity::<S>(lp);
         self.p2g::<S>(lp, false);
         self.grid.reduce(false);
         self.remap();
         self.grid.broadcast();
-        let kinetic = self.g2p_deform::<S>(lp, dt, apic)?;
+        self.g2p_kinematics::<S>(lp, dt);
+        let kinetic = self.update_stress(dt)?;
         self.energy.external += contact.work;
         self.energy.friction += contact.friction;
-        Ok(StepInfo { dt, stable_dt: dt, contact, kinetic })
+        Ok(StepInfo {
+            dt,
+            stable_dt: dt,
+            contact,
+            kinetic,
+        })
     }
 
     /// Particle → grid. With `full`: mass, momentum and internal force; else momentum only.
@@ -140,56 +151,59 @@ impl Simulation {
         let mut padded = std::mem::take(&mut self.grid.padded);
         let p = &self.scene.particles;
         let g = &self.grid;
-        let (inv, cell, affine) = (g.inv_cell, g.cell, self.scene.transfer == Transfer::Apic);
-        padded.par_chunks_mut(PADDED).enumerate().for_each(|(b, pad)| {
-            for n in pad.iter_mut() {
-                if full {
-                    *n = Node::default();
-                } else {
-                    n.a = [0.0; 3];
+        let inv = g.inv_cell;
+        padded
+            .par_chunks_mut(PADDED)
+            .enumerate()
+            .for_each(|(b, pad)| {
+                for n in pad.iter_mut() {
+                    if full {
+                        *n = Node::default();
+                    } else {
+                        n.a = [0.0; 3];
+                    }
                 }
-            }
-            let o = g.padded_origin(b);
-            for &q in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
-                let q = q as usize;
-                let xg = p.x[q] * inv;
-                let (bx, wx, gx) = S::eval(xg.x, lp);
-                let (by, wy, gy) = S::eval(xg.y, lp);
-                let (bz, wz, gz) = S::eval(xg.z, lp);
-                let (ox, oy, oz) = ((bx - o[0]) as usize, (by - o[1]) as usize, (bz - o[2]) as usize);
-                let m = p.mass[q];
-                let mv = p.v[q] * m;
-                let mc = if affine { p.affine[q] * (m * cell) } else { Matrix3::zeros() };
-                let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
-                let mp = m * (p.stress[q][0] + p.stress[q][1] + p.stress[q][2]) / 3.0;
-                for i in 0..S::N {
-                    for j in 0..S::N {
-                        for k in 0..S::N {
-                            let w = wx[i] * wy[j] * wz[k];
-                            let n = &mut pad[padded_index(ox + i, oy + j, oz + k)];
-                            let dx = Vector3::new(
-                                (bx + i as i32) as Real - xg.x,
-                                (by + j as i32) as Real - xg.y,
-                                (bz + k as i32) as Real - xg.z,
-                            );
-                            let mom = (mv + mc * dx) * w;
-                            n.a[0] += mom.x;
-                            n.a[1] += mom.y;
-                            n.a[2] += mom.z;
-                            if full {
-                                n.mass += m * w;
-                                n.pressure += mp * w;
-                                let grad = Vector3::new(gx[i] * wy[j] * wz[k], wx[i] * gy[j] * wz[k], wx[i] * wy[j] * gz[k]);
-                                let f = vs * grad;
-                                n.b[0] -= f.x;
-                                n.b[1] -= f.y;
-                                n.b[2] -= f.z;
+                let o = g.padded_origin(b);
+                for &q in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
+                    let q = q as usize;
+                    let xg = p.x[q] * inv;
+                    let (bx, wx, gx) = S::eval(xg.x, lp);
+                    let (by, wy, gy) = S::eval(xg.y, lp);
+                    let (bz, wz, gz) = S::eval(xg.z, lp);
+                    let (ox, oy, oz) = (
+                        (bx - o[0]) as usize,
+                        (by - o[1]) as usize,
+                        (bz - o[2]) as usize,
+                    );
+                    let m = p.mass[q];
+                    let mv = p.v[q] * m;
+                    let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            for k in 0..S::N {
+                                let w = wx[i] * wy[j] * wz[k];
+                                let n = &mut pad[padded_index(ox + i, oy + j, oz + k)];
+                                let mom = mv * w;
+                                n.a[0] += mom.x;
+                                n.a[1] += mom.y;
+                                n.a[2] += mom.z;
+                                if full {
+                                    n.mass += m * w;
+                                    let grad = Vector3::new(
+                                        gx[i] * wy[j] * wz[k],
+                                        wx[i] * gy[j] * wz[k],
+                                        wx[i] * wy[j] * gz[k],
+                                    );
+                                    let f = vs * grad;
+                                    n.b[0] -= f.x;
+                                    n.b[1] -= f.y;
+                                    n.b[2] -= f.z;
+                                }
                             }
                         }
                     }
                 }
-            }
-        });
+            });
         self.grid.padded = padded;
     }
 
@@ -197,7 +211,7 @@ impl Simulation {
     fn grid_update(&mut self, dt: Real) -> ContactSums {
         let scene = &self.scene;
         let floor = self.mass_floor;
-        let zone = scene.cell;
+        let zone = scene.contact_zone * scene.cell;
         let mut owned = std::mem::take(&mut self.grid.owned);
         let g = &self.grid;
         self.block_sums.resize(g.len(), ContactSums::default());
@@ -211,14 +225,20 @@ impl Simulation {
                     if n.mass <= floor {
                         n.a = [0.0; 3];
                         n.b = [0.0; 3];
-                        n.pressure = 0.0;
                         continue;
                     }
-                    n.pressure /= n.mass;
                     let old = Vector3::from(n.a) / n.mass;
                     let mut v = old + Vector3::from(n.b) * (dt / n.mass);
                     let z = g.owned_position(b, local).z;
-                    contact::apply(&scene.plates, zone, scene.friction, z, n.mass, &mut v, Some(sums));
+                    contact::apply(
+                        &scene.plates,
+                        zone,
+                        scene.friction,
+                        z,
+                        n.mass,
+                        &mut v,
+                        Some(sums),
+                    );
                     n.a = v.into();
                     n.b = (v - old).into();
                 }
@@ -237,91 +257,69 @@ impl Simulation {
         let floor = self.mass_floor;
         let mut owned = std::mem::take(&mut self.grid.owned);
         let g = &self.grid;
-        owned.par_chunks_mut(OWNED).enumerate().for_each(|(b, own)| {
-            for (local, n) in own.iter_mut().enumerate() {
-                if n.mass <= floor {
-                    n.a = [0.0; 3];
-                    continue;
+        owned
+            .par_chunks_mut(OWNED)
+            .enumerate()
+            .for_each(|(b, own)| {
+                for (local, n) in own.iter_mut().enumerate() {
+                    if n.mass <= floor {
+                        n.a = [0.0; 3];
+                        continue;
+                    }
+                    let mut v = Vector3::from(n.a) / n.mass;
+                    let z = g.owned_position(b, local).z;
+                    contact::apply(
+                        &scene.plates,
+                        scene.contact_zone * scene.cell,
+                        scene.friction,
+                        z,
+                        n.mass,
+                        &mut v,
+                        None,
+                    );
+                    n.a = v.into();
                 }
-                let mut v = Vector3::from(n.a) / n.mass;
-                let z = g.owned_position(b, local).z;
-                contact::apply(&scene.plates, scene.cell, scene.friction, z, n.mass, &mut v, None);
-                n.a = v.into();
-            }
-        });
+            });
         self.grid.owned = owned;
     }
 
-    /// Grid → particle velocity: FLIP adds the interpolated velocity change, APIC takes the
-    /// interpolated velocity.
-    fn g2p_velocity<S: Stencil>(&mut self, lp: Real, apic: bool) {
+    /// Grid → particle velocity, FLIP: add the interpolated velocity change.
+    fn g2p_velocity<S: Stencil>(&mut self, lp: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
-        let smooth = self.scene.smooth_pressure;
         let p = &mut self.scene.particles;
         let x = &p.x;
-        (p.v.par_chunks_mut(CHUNK), p.stress.par_chunks_mut(CHUNK)).into_par_iter().enumerate().for_each(
-            |(c, (vs, ss))| {
-                for (i, (v, s)) in vs.iter_mut().zip(ss.iter_mut()).enumerate() {
-                    let q = c * CHUNK + i;
-                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
-                    let mut dv = Vector3::zeros();
-                    let mut vel = Vector3::zeros();
-                    let mut pressure = 0.0;
-                    for i in 0..S::N {
-                        for j in 0..S::N {
-                            for k in 0..S::N {
-                                let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
-                                let n = &pad[padded_index(ox + i, oy + j, oz + k)];
-                                dv += Vector3::from(n.b) * w;
-                                vel += Vector3::from(n.a) * w;
-                                pressure += n.pressure * w;
-                            }
+        p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
+            for (i, v) in vs.iter_mut().enumerate() {
+                let q = c * CHUNK + i;
+                let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
+                let mut dv = Vector3::zeros();
+                for i in 0..S::N {
+                    for j in 0..S::N {
+                        for k in 0..S::N {
+                            let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
+                            dv += Vector3::from(pad[padded_index(ox + i, oy + j, oz + k)].b) * w;
                         }
                     }
-                    if apic {
-                        *v = vel;
-                    } else {
-                        *v += dv;
-                    }
-                    if smooth {
-                        let shift = pressure - (s[0] + s[1] + s[2]) / 3.0;
-                        s[0] += shift;
-                        s[1] += shift;
-                        s[2] += shift;
-                    }
                 }
-            },
-        );
+                *v += dv;
+            }
+        });
     }
 
-    /// Grid → particle deformation: velocity gradient and position from the nodal velocities
-    /// (remapped, for FLIP), then volume and stress; with APIC also the particle velocity and
-    /// its affine part. Finds the next step's signal speed and any particle that went bad.
-    /// Returns the kinetic energy, mJ.
-    fn g2p_deform<S: Stencil>(&mut self, lp: Real, dt: Real, apic: bool) -> Result<Real, SolveError> {
+    /// Grid → particle kinematics: velocity gradient (kept in `grad`) and position from the
+    /// remapped nodal velocities.
+    fn g2p_kinematics<S: Stencil>(&mut self, lp: Real, dt: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
-        let material = self.scene.material;
-        let modulus = material.p_wave_modulus();
-        let domain = self.scene.domain;
         let p = &mut self.scene.particles;
-        let (mass, yield_scale) = (&p.mass, &p.yield_scale);
-        (
-            p.x.par_chunks_mut(CHUNK),
-            p.v.par_chunks_mut(CHUNK),
-            p.stress.par_chunks_mut(CHUNK),
-            p.vol.par_chunks_mut(CHUNK),
-            p.plastic_strain.par_chunks_mut(CHUNK),
-            p.affine.par_chunks_mut(CHUNK),
-        )
+        (p.x.par_chunks_mut(CHUNK), p.grad.par_chunks_mut(CHUNK))
             .into_par_iter()
             .enumerate()
-            .map(|(c, (xs, vs, ss, vols, eps, affs))| {
-                let mut sums = ChunkSums::default();
-                for i in 0..xs.len() {
+            .for_each(|(c, (xs, ls))| {
+                for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
                     let q = c * CHUNK + i;
-                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, xs[i] * inv, lp);
+                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, *x * inv, lp);
                     let mut l = Matrix3::zeros();
                     let mut vel = Vector3::zeros();
                     for i in 0..S::N {
@@ -329,30 +327,113 @@ impl Simulation {
                             for k in 0..S::N {
                                 let (wx, wy, wz) = (e[0].1[i], e[1].1[j], e[2].1[k]);
                                 let vn = Vector3::from(pad[padded_index(ox + i, oy + j, oz + k)].a);
-                                let grad = Vector3::new(e[0].2[i] * wy * wz, wx * e[1].2[j] * wz, wx * wy * e[2].2[k]);
+                                let dw = Vector3::new(
+                                    e[0].2[i] * wy * wz,
+                                    wx * e[1].2[j] * wz,
+                                    wx * wy * e[2].2[k],
+                                );
                                 vel += vn * (wx * wy * wz);
-                                l += vn * grad.transpose();
+                                l += vn * dw.transpose();
                             }
                         }
                     }
-                    l *= inv;
-                    xs[i] += vel * dt;
-                    sums.kinetic += 0.5 * mass[q] * vs[i].norm_squared();
-                    let scale = if yield_scale.is_empty() { 1.0 } else { yield_scale[q] };
+                    *grad = l * inv;
+                    *x += vel * dt;
+                }
+            });
+    }
+
+    /// Per grid cell: the volume-weighted mean dilation rate tr(L) and pressure of its particles.
+    fn cell_averages(&mut self) {
+        let g = &mut self.grid;
+        let p = &self.scene.particles;
+        let (order, starts, cell_of) = (&g.order, &g.starts, &g.cell_of);
+        (
+            g.cell_dilation.par_iter_mut(),
+            g.cell_pressure.par_iter_mut(),
+        )
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(b, (dil, pre))| {
+                let mut vol = [0.0; 64];
+                *dil = [0.0; 64];
+                *pre = [0.0; 64];
+                for &q in &order[starts[b] as usize..starts[b + 1] as usize] {
+                    let q = q as usize;
+                    let c = cell_of[q] as usize;
+                    let s = &p.stress[q];
+                    vol[c] += p.vol[q];
+                    dil[c] += p.vol[q] * p.grad[q].trace();
+                    pre[c] += p.vol[q] * (s[0] + s[1] + s[2]) / 3.0;
+                }
+                for c in 0..64 {
+                    if vol[c] > 0.0 {
+                        dil[c] /= vol[c];
+                        pre[c] /= vol[c];
+                    }
+                }
+            });
+    }
+
+    /// Stress, volume and energy update from the velocity gradients of `g2p_kinematics`, with
+    /// the cell-averaged dilation and pressure when the scene asks for them. Finds the next
+    /// step's signal speed and any particle that went bad. Returns the kinetic energy, mJ.
+    fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+        let average = self.scene.average_volumetric;
+        if average {
+            self.cell_averages();
+        }
+        let g = &self.grid;
+        let material = self.scene.material;
+        let modulus = material.p_wave_modulus();
+        let domain = self.scene.domain;
+        let p = &mut self.scene.particles;
+        let (mass, yield_scale, xs, vs, p_grad) = (&p.mass, &p.yield_scale, &p.x, &p.v, &p.grad);
+        (
+            p.stress.par_chunks_mut(CHUNK),
+            p.vol.par_chunks_mut(CHUNK),
+            p.plastic_strain.par_chunks_mut(CHUNK),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, (ss, vols, eps))| {
+                let mut sums = ChunkSums::default();
+                for i in 0..ss.len() {
+                    let q = c * CHUNK + i;
+                    let mut l = p_grad[q];
+                    if average {
+                        let (b, cell) = (g.home[q] as usize, g.cell_of[q] as usize);
+                        let shift = (g.cell_dilation[b][cell] - l.trace()) / 3.0;
+                        l[(0, 0)] += shift;
+                        l[(1, 1)] += shift;
+                        l[(2, 2)] += shift;
+                        let s = &mut ss[i];
+                        let dp = g.cell_pressure[b][cell] - (s[0] + s[1] + s[2]) / 3.0;
+                        s[0] += dp;
+                        s[1] += dp;
+                        s[2] += dp;
+                    }
+                    let scale = if yield_scale.is_empty() {
+                        1.0
+                    } else {
+                        yield_scale[q]
+                    };
                     let inc = material.update(&mut ss[i], &l, dt, scale);
                     let before = vols[i];
                     vols[i] *= (Matrix3::identity() + l * dt).determinant();
-                    if apic {
-                        affs[i] = l;
-                    }
                     sums.work += inc.stress_power * 0.5 * (before + vols[i]) * dt;
                     if inc.plastic_strain > 0.0 {
                         eps[i] += inc.plastic_strain;
-                        sums.plastic += material.yield_stress * scale * inc.plastic_strain * vols[i];
+                        sums.plastic +=
+                            material.yield_stress * scale * inc.plastic_strain * vols[i];
                     }
-                    sums.signal = sums.signal.max((modulus * vols[i] / mass[q]).sqrt() + vs[i].norm());
+                    sums.kinetic += 0.5 * mass[q] * vs[q].norm_squared();
+                    sums.signal = sums
+                        .signal
+                        .max((modulus * vols[i] / mass[q]).sqrt() + vs[q].norm());
                     if sums.bad.is_none() {
-                        sums.bad = diagnose(&xs[i], &ss[i], vols[i], &vs[i], &domain).map(|what| (q, what));
+                        sums.bad = diagnose(&xs[q], &ss[i], vols[i], &vs[q], &domain)
+                            .map(|what| (q, what));
                     }
                 }
                 sums
@@ -370,7 +451,10 @@ impl Simulation {
                 return Err(SolveError::Unstable {
                     step: self.steps + 1,
                     time_ms: self.time + dt,
-                    what: format!("particle {q} at ({:.4}, {:.4}, {:.4}) mm: {what}", x.x, x.y, x.z),
+                    what: format!(
+                        "particle {q} at ({:.4}, {:.4}, {:.4}) mm: {what}",
+                        x.x, x.y, x.z
+                    ),
                 });
             }
         }
@@ -417,7 +501,13 @@ fn stencil<'a, S: Stencil>(
     q: usize,
     xg: Vector3<Real>,
     lp: Real,
-) -> (&'a [Node], usize, usize, usize, [(i32, [Real; 3], [Real; 3]); 3]) {
+) -> (
+    &'a [Node],
+    usize,
+    usize,
+    usize,
+    [(i32, [Real; 3], [Real; 3]); 3],
+) {
     let b = g.home[q] as usize;
     let o = g.padded_origin(b);
     let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
