@@ -215,7 +215,7 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
             let info = sim.step(1.0).unwrap();
             impulse += info.contact.impulse[0];
             span += info.dt;
-            if sim.steps % 500 == 0 {
+            if sim.steps.is_multiple_of(500) {
                 let p = &sim.scene.particles;
                 assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
                 let height = sim.scene.plates[0].z - sim.scene.plates[1].z;

@@ -214,12 +214,12 @@ impl Grid {
     }
 
     fn lookup(&self, b: [i32; 3]) -> u32 {
-        for a in 0..3 {
-            if b[a] < self.lo[a] || b[a] >= self.lo[a] + self.dim[a] {
-                return NONE;
-            }
+        let inside = (0..3).all(|a| b[a] >= self.lo[a] && b[a] < self.lo[a] + self.dim[a]);
+        if inside {
+            self.table[self.slot(b)]
+        } else {
+            NONE
         }
-        self.table[self.slot(b)]
     }
 
     /// Sums the padded buffers into the owned nodes: mass, `a` and `b` when `all`, else `a` only.

@@ -496,13 +496,13 @@ fn diagnose(
 /// A particle's padded buffer, its stencil's offset in it and the per-axis weights.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
-fn stencil<'a, S: Stencil>(
-    g: &'a Grid,
+fn stencil<S: Stencil>(
+    g: &Grid,
     q: usize,
     xg: Vector3<Real>,
     lp: Real,
 ) -> (
-    &'a [Node],
+    &[Node],
     usize,
     usize,
     usize,
