@@ -58,6 +58,9 @@ pub struct Grid {
     pub home: Vec<u32>,
     /// Each particle's cell within its block, 0..64.
     pub cell_of: Vec<u8>,
+    /// Binning scratch: each particle's block coordinates and stencil spill bits.
+    own: Vec<[i32; 3]>,
+    spill: Vec<u8>,
     /// Per block and cell: volume-weighted dilation rate (1/ms) and pressure (MPa) averages.
     pub cell_dilation: Vec<[Real; 64]>,
     pub cell_pressure: Vec<[Real; 64]>,
@@ -107,15 +110,59 @@ impl Grid {
     /// `lp` is the particle half-size in grid units.
     pub fn bin<S: Stencil>(&mut self, x: &[Vector3<Real>], lp: Real) {
         let inv = self.inv_cell;
-        let mut bmin = [i32::MAX; 3];
-        let mut bmax = [i32::MIN; 3];
-        for p in x {
-            for a in 0..3 {
-                let b = ((p[a] * inv).floor() as i32).div_euclid(BLOCK);
-                bmin[a] = bmin[a].min(b);
-                bmax[a] = bmax[a].max(b);
-            }
-        }
+        // Per particle, in parallel: its block, its cell in the block, and which neighbour
+        // blocks its stencil spills into (bit a: below on axis a, bit a + 3: above).
+        self.own.resize(x.len(), [0; 3]);
+        self.cell_of.resize(x.len(), 0);
+        self.spill.resize(x.len(), 0);
+        (
+            self.own.par_chunks_mut(4096),
+            self.cell_of.par_chunks_mut(4096),
+            self.spill.par_chunks_mut(4096),
+            x.par_chunks(4096),
+        )
+            .into_par_iter()
+            .for_each(|(own, cell_of, spill, x)| {
+                for (((o, c), s), p) in own.iter_mut().zip(cell_of).zip(spill).zip(x) {
+                    let mut cell = [0; 3];
+                    *s = 0;
+                    for a in 0..3 {
+                        let g = p[a] * inv;
+                        let (base, _, _) = S::eval(g, lp);
+                        let c = g.floor() as i32;
+                        o[a] = c.div_euclid(BLOCK);
+                        cell[a] = c.rem_euclid(BLOCK);
+                        if base.div_euclid(BLOCK) < o[a] {
+                            *s |= 1 << a;
+                        }
+                        if (base + S::N as i32 - 1).div_euclid(BLOCK) > o[a] {
+                            *s |= 1 << (a + 3);
+                        }
+                    }
+                    *c = ((cell[0] * 4 + cell[1]) * 4 + cell[2]) as u8;
+                }
+            });
+        let (bmin, bmax) = self
+            .own
+            .par_chunks(4096)
+            .map(|own| {
+                own.iter()
+                    .fold(([i32::MAX; 3], [i32::MIN; 3]), |(lo, hi), o| {
+                        (
+                            [lo[0].min(o[0]), lo[1].min(o[1]), lo[2].min(o[2])],
+                            [hi[0].max(o[0]), hi[1].max(o[1]), hi[2].max(o[2])],
+                        )
+                    })
+            })
+            .reduce(
+                || ([i32::MAX; 3], [i32::MIN; 3]),
+                |(a, b), (c, d)| {
+                    (
+                        [a[0].min(c[0]), a[1].min(c[1]), a[2].min(c[2])],
+                        [b[0].max(d[0]), b[1].max(d[1]), b[2].max(d[2])],
+                    )
+                },
+            );
         // One block of margin for stencils that spill over, one more for neighbour look-ups.
         self.lo = [bmin[0] - 2, bmin[1] - 2, bmin[2] - 2];
         self.dim = [
@@ -127,31 +174,28 @@ impl Grid {
         self.table.clear();
         self.table.resize(size, NONE);
         self.home.resize(x.len(), 0);
-        self.cell_of.resize(x.len(), 0);
-        for (q, p) in x.iter().enumerate() {
-            let mut lo = [0; 3];
-            let mut hi = [0; 3];
-            let mut own = [0; 3];
-            let mut cell = [0; 3];
-            for a in 0..3 {
-                let g = p[a] * inv;
-                let (base, _, _) = S::eval(g, lp);
-                lo[a] = base.div_euclid(BLOCK);
-                hi[a] = (base + S::N as i32 - 1).div_euclid(BLOCK);
-                let c = g.floor() as i32;
-                own[a] = c.div_euclid(BLOCK);
-                cell[a] = c.rem_euclid(BLOCK);
+        let mut last = usize::MAX;
+        for q in 0..x.len() {
+            let (o, s) = (self.own[q], self.spill[q]);
+            let home = self.slot(o);
+            self.home[q] = home as u32;
+            if s == 0 {
+                if home != last {
+                    self.table[home] = MARK;
+                    last = home;
+                }
+                continue;
             }
-            self.cell_of[q] = ((cell[0] * 4 + cell[1]) * 4 + cell[2]) as u8;
-            for i in lo[0]..=hi[0] {
-                for j in lo[1]..=hi[1] {
-                    for k in lo[2]..=hi[2] {
+            let range = |a: usize| (o[a] - (s >> a & 1) as i32, o[a] + (s >> (a + 3) & 1) as i32);
+            let (rx, ry, rz) = (range(0), range(1), range(2));
+            for i in rx.0..=rx.1 {
+                for j in ry.0..=ry.1 {
+                    for k in rz.0..=rz.1 {
                         let t = self.slot([i, j, k]);
                         self.table[t] = MARK;
                     }
                 }
             }
-            self.home[q] = self.slot(own) as u32;
         }
         self.blocks.clear();
         for t in 0..size {
@@ -321,6 +365,8 @@ impl Grid {
                 * size_of::<u32>()
             + (self.home.capacity() + self.cursor.capacity()) * size_of::<u32>()
             + self.cell_of.capacity()
+            + self.spill.capacity()
+            + self.own.capacity() * size_of::<[i32; 3]>()
             + (self.cell_dilation.capacity() + self.cell_pressure.capacity())
                 * size_of::<[Real; 64]>()
     }

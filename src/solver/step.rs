@@ -57,6 +57,34 @@ struct ChunkSums {
     bad: Option<(usize, &'static str)>,
 }
 
+/// Wall time spent in each phase since the start, s.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PhaseTimes {
+    /// Binning particles into blocks and building the sparse grid.
+    pub bin: f64,
+    /// Particle → grid transfers (both).
+    pub p2g: f64,
+    /// Reductions, grid updates with contact, broadcasts.
+    pub grid: f64,
+    /// Grid → particle transfers (velocity; gradient and position).
+    pub g2p: f64,
+    /// Cell averages and the stress update.
+    pub stress: f64,
+}
+
+struct Clock(std::time::Instant);
+
+impl Clock {
+    fn start() -> Clock {
+        Clock(std::time::Instant::now())
+    }
+    fn lap(&mut self, into: &mut f64) {
+        let now = std::time::Instant::now();
+        *into += (now - self.0).as_secs_f64();
+        self.0 = now;
+    }
+}
+
 /// A scene advancing in time.
 pub struct Simulation {
     pub scene: Scene,
@@ -65,6 +93,7 @@ pub struct Simulation {
     pub time: Real,
     pub steps: u64,
     pub energy: Energies,
+    pub phases: PhaseTimes,
     /// Largest c + |v| over the particles after the last step, mm/ms.
     signal: Real,
     /// Nodes lighter than this carry no velocity (guards divisions by tiny masses), g.
@@ -93,6 +122,7 @@ impl Simulation {
             time: 0.0,
             steps: 0,
             energy: Energies::default(),
+            phases: PhaseTimes::default(),
             signal: c + vmax,
             mass_floor: 1e-14 * mean_mass,
             chunk_sums: Vec::new(),
@@ -124,18 +154,27 @@ impl Simulation {
 
     fn advance<S: Stencil>(&mut self, dt: Real) -> Result<StepInfo, SolveError> {
         let lp = self.scene.half_size / self.scene.cell;
+        let mut clock = Clock::start();
         self.grid.bin::<S>(&self.scene.particles.x, lp);
-        self.p2g::<S>(lp, true);
+        clock.lap(&mut self.phases.bin);
+        self.p2g::<S, true>(lp);
+        clock.lap(&mut self.phases.p2g);
         self.grid.reduce(true);
         let contact = self.grid_update(dt);
         self.grid.broadcast();
+        clock.lap(&mut self.phases.grid);
         self.g2p_velocity::<S>(lp);
-        self.p2g::<S>(lp, false);
+        clock.lap(&mut self.phases.g2p);
+        self.p2g::<S, false>(lp);
+        clock.lap(&mut self.phases.p2g);
         self.grid.reduce(false);
         self.remap();
         self.grid.broadcast();
+        clock.lap(&mut self.phases.grid);
         self.g2p_kinematics::<S>(lp, dt);
+        clock.lap(&mut self.phases.g2p);
         let kinetic = self.update_stress(dt)?;
+        clock.lap(&mut self.phases.stress);
         self.energy.external += contact.work;
         self.energy.friction += contact.friction;
         Ok(StepInfo {
@@ -147,7 +186,7 @@ impl Simulation {
     }
 
     /// Particle → grid. With `full`: mass, momentum and internal force; else momentum only.
-    fn p2g<S: Stencil>(&mut self, lp: Real, full: bool) {
+    fn p2g<S: Stencil, const FULL: bool>(&mut self, lp: Real) {
         let mut padded = std::mem::take(&mut self.grid.padded);
         let p = &self.scene.particles;
         let g = &self.grid;
@@ -157,7 +196,7 @@ impl Simulation {
             .enumerate()
             .for_each(|(b, pad)| {
                 for n in pad.iter_mut() {
-                    if full {
+                    if FULL {
                         *n = Node::default();
                     } else {
                         n.a = [0.0; 3];
@@ -180,20 +219,18 @@ impl Simulation {
                     let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
                     for i in 0..S::N {
                         for j in 0..S::N {
+                            let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
+                            let row = padded_index(ox + i, oy + j, oz);
                             for k in 0..S::N {
-                                let w = wx[i] * wy[j] * wz[k];
-                                let n = &mut pad[padded_index(ox + i, oy + j, oz + k)];
+                                let w = wxy * wz[k];
+                                let n = &mut pad[row + k];
                                 let mom = mv * w;
                                 n.a[0] += mom.x;
                                 n.a[1] += mom.y;
                                 n.a[2] += mom.z;
-                                if full {
+                                if FULL {
                                     n.mass += m * w;
-                                    let grad = Vector3::new(
-                                        gx[i] * wy[j] * wz[k],
-                                        wx[i] * gy[j] * wz[k],
-                                        wx[i] * wy[j] * gz[k],
-                                    );
+                                    let grad = Vector3::new(gxy * wz[k], wgxy * wz[k], wxy * gz[k]);
                                     let f = vs * grad;
                                     n.b[0] -= f.x;
                                     n.b[1] -= f.y;
@@ -296,9 +333,10 @@ impl Simulation {
                 let mut dv = Vector3::zeros();
                 for i in 0..S::N {
                     for j in 0..S::N {
+                        let wxy = e[0].1[i] * e[1].1[j];
+                        let row = padded_index(ox + i, oy + j, oz);
                         for k in 0..S::N {
-                            let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
-                            dv += Vector3::from(pad[padded_index(ox + i, oy + j, oz + k)].b) * w;
+                            dv += Vector3::from(pad[row + k].b) * (wxy * e[2].1[k]);
                         }
                     }
                 }
@@ -324,15 +362,14 @@ impl Simulation {
                     let mut vel = Vector3::zeros();
                     for i in 0..S::N {
                         for j in 0..S::N {
+                            let (wx, wy) = (e[0].1[i], e[1].1[j]);
+                            let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
+                            let row = padded_index(ox + i, oy + j, oz);
                             for k in 0..S::N {
-                                let (wx, wy, wz) = (e[0].1[i], e[1].1[j], e[2].1[k]);
-                                let vn = Vector3::from(pad[padded_index(ox + i, oy + j, oz + k)].a);
-                                let dw = Vector3::new(
-                                    e[0].2[i] * wy * wz,
-                                    wx * e[1].2[j] * wz,
-                                    wx * wy * e[2].2[k],
-                                );
-                                vel += vn * (wx * wy * wz);
+                                let wz = e[2].1[k];
+                                let vn = Vector3::from(pad[row + k].a);
+                                let dw = Vector3::new(gxy * wz, wgxy * wz, wxy * e[2].2[k]);
+                                vel += vn * (wxy * wz);
                                 l += vn * dw.transpose();
                             }
                         }
