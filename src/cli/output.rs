@@ -1,7 +1,9 @@
 //! The files a run leaves behind: `history.csv` (one row per history point, columns
-//! [`HistoryRow::COLUMNS`]) and `summary.json` (the summary plus the mode's diagnostics).
+//! [`HistoryRow::COLUMNS`]), `summary.json` (the summary plus the mode's diagnostics) and
+//! `particles.csv` (the final particle state).
 
 use crate::solver::mode::ModeDetail;
+use crate::solver::Snapshot;
 use crate::solver::{HistoryRow, Summary};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
@@ -26,6 +28,37 @@ pub fn write_history_csv(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()>
     for row in rows {
         // `{}` prints the shortest text that reads back as the same f64.
         w.write_record(row.values().iter().map(|v| v.to_string()))?;
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// Writes the final particle state as CSV: initial and final position (mm) and equivalent
+/// plastic strain, one particle per row.
+pub fn write_particles_csv(path: &Path, snapshot: &Snapshot) -> anyhow::Result<()> {
+    let mut w =
+        csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
+    w.write_record([
+        "x0_mm",
+        "y0_mm",
+        "z0_mm",
+        "x_mm",
+        "y_mm",
+        "z_mm",
+        "plastic_strain",
+    ])?;
+    for ((a, b), e) in snapshot
+        .initial_mm
+        .iter()
+        .zip(&snapshot.position_mm)
+        .zip(&snapshot.plastic_strain)
+    {
+        w.write_record(
+            [a[0], a[1], a[2], b[0], b[1], b[2], *e]
+                .iter()
+                .map(|v| v.to_string()),
+        )?;
     }
     w.flush()
         .with_context(|| format!("writing {}", path.display()))?;

@@ -5,7 +5,7 @@
 //! [`summarize`], so what the CLI reports depends only on the solver's outputs, not on how the
 //! engine filled in its own summary; the engine's run cost is kept.
 
-use super::output::{write_history_csv, write_summary_json, SummaryFile};
+use super::output::{write_history_csv, write_particles_csv, write_summary_json, SummaryFile};
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::RunArgs;
@@ -98,10 +98,13 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         mode_detail,
     };
     write_summary_json(&summary_path, &file)?;
+    let particles_path = out_dir.join("particles.csv");
+    write_particles_csv(&particles_path, &output.snapshot)?;
     eprintln!(
-        "wrote {} and {}",
+        "wrote {}, {} and {}",
         history_path.display(),
-        summary_path.display()
+        summary_path.display(),
+        particles_path.display()
     );
     Ok(())
 }
