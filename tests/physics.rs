@@ -31,7 +31,6 @@ fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind) -> Sc
         density: RHO,
         plates: vec![],
         friction: 0.0,
-        contact_zone: 1.0,
         cell: 2.0 * h,
         half_size: 0.5 * h,
         shape,
@@ -183,12 +182,10 @@ fn momentum_is_conserved_without_plates() {
 }
 
 /// A block (3 × 3 × 6 mm) squeezed between frictionless plates past three times its yield
-/// strain: the load must settle at σy times the current area. Bounds: 0.95 below (perfect
-/// plasticity cannot carry less than σy in compression; 1 % for the stress wave ρcv ≈ 0.7 MPa,
-/// 4 % for the area, estimated as total volume over plate gap); 1.13 above, because the one-cell contact zone moves with the plate and
-/// acts as a rigid, sticking end cap: the classic upper bound for compressing a block with
-/// sticking ends, p̄/σy = 1 + m d / (3√3 h) with m = 1, d/h = 0.5, gives 1.096, plus 3 %.
-/// No particle may ever lie outside the yield surface.
+/// strain is in uniaxial stress: the load must settle at σy times the current area, within 5 %
+/// (1 % for the stress wave ρcv ≈ 0.7 MPa at 0.2 m/s, 4 % for the area, estimated as total
+/// volume over plate gap). Measured: 0.95–0.97 (trilinear) and 0.96–1.02 (uGIMP). No particle
+/// may ever lie outside the yield surface.
 #[test]
 fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
     for shape in SHAPES {
@@ -229,7 +226,7 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
         }
         assert!(ratios.len() >= 3);
         for r in ratios {
-            assert!((0.95..1.13).contains(&r), "{shape:?}: load / (σy A) = {r}");
+            assert!((0.95..1.05).contains(&r), "{shape:?}: load / (σy A) = {r}");
         }
     }
 }

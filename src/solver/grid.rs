@@ -34,7 +34,8 @@ pub struct Node {
     pub mass: Real,
     pub a: [Real; 3],
     pub b: [Real; 3],
-    _pad: Real,
+    /// Mass contributed by particles that touch a plate: > 0 puts the node in contact.
+    pub touch: Real,
 }
 
 /// The sparse grid and the binning of particles into its blocks.
@@ -302,6 +303,7 @@ impl Grid {
                                 }
                                 if all {
                                     o.mass += s.mass;
+                                    o.touch += s.touch;
                                     for c in 0..3 {
                                         o.b[c] += s.b[c];
                                     }

@@ -32,8 +32,6 @@ pub struct Scene {
     pub density: Real,
     pub plates: Vec<Plate>,
     pub friction: Real,
-    /// Nodes nearer a plate than this many cells (or beyond it) are in its contact zone.
-    pub contact_zone: Real,
     /// Background cell size, mm.
     pub cell: Real,
     /// Half the particle spacing, mm (uGIMP particle half-width).
@@ -107,7 +105,6 @@ impl Scene {
                 },
             ],
             friction: spec.contact.friction,
-            contact_zone: 1.0,
             cell,
             half_size: 0.5 * h,
             shape: spec.discretization.shape,

@@ -25,6 +25,10 @@ use rayon::prelude::*;
 /// Particles per parallel work item in particle-order passes.
 const CHUNK: usize = 1024;
 
+/// A particle touches a plate when its edge is within this share of its half-size of the
+/// surface: far more than the few micrometres it moves in a step, far less than its size.
+const CONTACT_TOLERANCE: Real = 0.05;
+
 /// Energy integrals since the start, mJ.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Energies {
@@ -189,6 +193,8 @@ impl Simulation {
     fn p2g<S: Stencil, const FULL: bool>(&mut self, lp: Real) {
         let mut padded = std::mem::take(&mut self.grid.padded);
         let p = &self.scene.particles;
+        let (plates, half) = (&self.scene.plates, self.scene.half_size);
+        let tolerance = CONTACT_TOLERANCE * half;
         let g = &self.grid;
         let inv = g.inv_cell;
         padded
@@ -216,6 +222,11 @@ impl Simulation {
                     );
                     let m = p.mass[q];
                     let mv = p.v[q] * m;
+                    let touch = if FULL && contact::touches(plates, p.x[q].z, half, tolerance) {
+                        m
+                    } else {
+                        0.0
+                    };
                     let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
                     for i in 0..S::N {
                         for j in 0..S::N {
@@ -230,6 +241,7 @@ impl Simulation {
                                 n.a[2] += mom.z;
                                 if FULL {
                                     n.mass += m * w;
+                                    n.touch += touch * w;
                                     let grad = Vector3::new(gxy * wz[k], wgxy * wz[k], wxy * gz[k]);
                                     let f = vs * grad;
                                     n.b[0] -= f.x;
@@ -248,7 +260,6 @@ impl Simulation {
     fn grid_update(&mut self, dt: Real) -> ContactSums {
         let scene = &self.scene;
         let floor = self.mass_floor;
-        let zone = scene.contact_zone * scene.cell;
         let mut owned = std::mem::take(&mut self.grid.owned);
         let g = &self.grid;
         self.block_sums.resize(g.len(), ContactSums::default());
@@ -266,16 +277,13 @@ impl Simulation {
                     }
                     let old = Vector3::from(n.a) / n.mass;
                     let mut v = old + Vector3::from(n.b) * (dt / n.mass);
-                    let z = g.owned_position(b, local).z;
-                    contact::apply(
-                        &scene.plates,
-                        zone,
-                        scene.friction,
-                        z,
-                        n.mass,
-                        &mut v,
-                        Some(sums),
-                    );
+                    if n.touch > 0.0 {
+                        let z = g.owned_position(b, local).z;
+                        if let Some(k) = contact::nearer(&scene.plates, z) {
+                            let plate = &scene.plates[k];
+                            contact::apply(k, plate, scene.friction, n.mass, &mut v, Some(sums));
+                        }
+                    }
                     n.a = v.into();
                     n.b = (v - old).into();
                 }
@@ -304,16 +312,13 @@ impl Simulation {
                         continue;
                     }
                     let mut v = Vector3::from(n.a) / n.mass;
-                    let z = g.owned_position(b, local).z;
-                    contact::apply(
-                        &scene.plates,
-                        scene.contact_zone * scene.cell,
-                        scene.friction,
-                        z,
-                        n.mass,
-                        &mut v,
-                        None,
-                    );
+                    if n.touch > 0.0 {
+                        let z = g.owned_position(b, local).z;
+                        if let Some(k) = contact::nearer(&scene.plates, z) {
+                            let plate = &scene.plates[k];
+                            contact::apply(k, plate, scene.friction, n.mass, &mut v, None);
+                        }
+                    }
                     n.a = v.into();
                 }
             });
