@@ -132,7 +132,7 @@ mod tests {
 
     #[test]
     fn friction_caps_the_tangential_impulse_at_mu_times_normal() {
-        let plates = vec![Plate {
+        let plates = [Plate {
             z: 0.0,
             side: -1.0,
             velocity: 0.0,
