@@ -1,6 +1,7 @@
 //! A finished run in a few numbers: mean collapse load, peak, energy absorbed, folds, energy
 //! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
 
+use super::case::LoadingMode;
 use super::history::HistoryRow;
 use super::mode::detect_mode;
 use super::reference::{references, References};
@@ -45,7 +46,8 @@ pub struct Summary {
     /// TEA = ∫ P du by the trapezoid rule over the history.
     pub energy_absorbed_mj: f64,
     pub crush_distance_mm: f64,
-    /// Number of significant load drops.
+    /// Number of significant load drops (axial loading; 0 for lateral flattening, which does
+    /// not fold).
     pub folds: u32,
     /// |W_ext − (E_kin + E_int + W_fric)| / max(W_ext, E_int) over the run.
     pub energy_balance_error: f64,
@@ -82,7 +84,10 @@ pub fn summarize(
         peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
         energy_absorbed_mj,
         crush_distance_mm,
-        folds: count_folds(history),
+        folds: match case.spec().loading.mode {
+            LoadingMode::Axial => count_folds(history),
+            LoadingMode::Lateral => 0,
+        },
         energy_balance_error: energy_balance_error(history),
         kinetic_to_internal: kinetic_to_internal(history),
         mode: detect_mode(case, snapshot).0,
