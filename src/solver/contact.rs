@@ -72,8 +72,23 @@ pub fn apply(
 
 /// The plate a node at height `z` can touch: the nearer one.
 #[inline]
-pub fn nearer(plates: &[Plate], z: Real) -> Option<usize> {
+fn nearer(plates: &[Plate], z: Real) -> Option<usize> {
     (0..plates.len()).min_by(|&a, &b| (plates[a].z - z).abs().total_cmp(&(plates[b].z - z).abs()))
+}
+
+/// [`apply`] with the plate nearer to a node at height `z` (a node in contact touches one plate).
+#[inline]
+pub fn apply_nearest(
+    plates: &[Plate],
+    mu: Real,
+    z: Real,
+    m: Real,
+    v: &mut Vector3<Real>,
+    sums: Option<&mut ContactSums>,
+) {
+    if let Some(k) = nearer(plates, z) {
+        apply(k, &plates[k], mu, m, v, sums);
+    }
 }
 
 /// Whether a particle of half-size `half` (mm) centred at height `z` touches some plate: its

@@ -38,6 +38,18 @@ pub struct Node {
     pub touch: Real,
 }
 
+impl Node {
+    /// Zeroes every accumulator when `all`, else only `a` (the momentum of the MUSL remap).
+    #[inline(always)]
+    pub fn clear(&mut self, all: bool) {
+        if all {
+            *self = Node::default();
+        } else {
+            self.a = [0.0; 3];
+        }
+    }
+}
+
 /// The sparse grid and the binning of particles into its blocks.
 #[derive(Debug, Default)]
 pub struct Grid {
@@ -275,13 +287,7 @@ impl Grid {
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
-                for n in own.iter_mut() {
-                    if all {
-                        *n = Node::default();
-                    } else {
-                        n.a = [0.0; 3];
-                    }
-                }
+                own.iter_mut().for_each(|n| n.clear(all));
                 for (k, &nb) in neighbors[b].iter().enumerate() {
                     if nb == NONE {
                         continue;

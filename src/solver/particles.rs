@@ -47,15 +47,6 @@ impl Particles {
         self.v.iter().zip(&self.mass).map(|(v, m)| v * *m).sum()
     }
 
-    /// Total kinetic energy, mJ.
-    pub fn kinetic_energy(&self) -> Real {
-        self.v
-            .iter()
-            .zip(&self.mass)
-            .map(|(v, m)| 0.5 * m * v.norm_squared())
-            .sum()
-    }
-
     /// Bytes held per particle by these arrays (capacity, not length).
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;

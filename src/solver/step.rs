@@ -143,11 +143,16 @@ impl Simulation {
     pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
         let stable_dt = self.stable_dt();
         let dt = stable_dt.min(dt_cap);
-        let mut info = match self.scene.shape {
+        let (contact, kinetic) = match self.scene.shape {
             ShapeKind::Linear => self.advance::<Linear>(dt),
             ShapeKind::Gimp => self.advance::<Gimp>(dt),
         }?;
-        info.stable_dt = stable_dt;
+        let info = StepInfo {
+            dt,
+            stable_dt,
+            contact,
+            kinetic,
+        };
         for plate in &mut self.scene.plates {
             plate.z += plate.velocity * dt;
         }
@@ -156,7 +161,8 @@ impl Simulation {
         Ok(info)
     }
 
-    fn advance<S: Stencil>(&mut self, dt: Real) -> Result<StepInfo, SolveError> {
+    /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
+    fn advance<S: Stencil>(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
         let lp = self.scene.half_size / self.scene.cell;
         let mut clock = Clock::start();
         self.grid.bin::<S>(&self.scene.particles.x, lp);
@@ -181,12 +187,7 @@ impl Simulation {
         clock.lap(&mut self.phases.stress);
         self.energy.external += contact.work;
         self.energy.friction += contact.friction;
-        Ok(StepInfo {
-            dt,
-            stable_dt: dt,
-            contact,
-            kinetic,
-        })
+        Ok((contact, kinetic))
     }
 
     /// Particle → grid. With `full`: mass, momentum and internal force; else momentum only.
@@ -201,13 +202,7 @@ impl Simulation {
             .par_chunks_mut(PADDED)
             .enumerate()
             .for_each(|(b, pad)| {
-                for n in pad.iter_mut() {
-                    if FULL {
-                        *n = Node::default();
-                    } else {
-                        n.a = [0.0; 3];
-                    }
-                }
+                pad.iter_mut().for_each(|n| n.clear(FULL));
                 let o = g.padded_origin(b);
                 for &q in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
                     let q = q as usize;
@@ -279,10 +274,14 @@ impl Simulation {
                     let mut v = old + Vector3::from(n.b) * (dt / n.mass);
                     if n.touch > 0.0 {
                         let z = g.owned_position(b, local).z;
-                        if let Some(k) = contact::nearer(&scene.plates, z) {
-                            let plate = &scene.plates[k];
-                            contact::apply(k, plate, scene.friction, n.mass, &mut v, Some(sums));
-                        }
+                        contact::apply_nearest(
+                            &scene.plates,
+                            scene.friction,
+                            z,
+                            n.mass,
+                            &mut v,
+                            Some(sums),
+                        );
                     }
                     n.a = v.into();
                     n.b = (v - old).into();
@@ -314,10 +313,14 @@ impl Simulation {
                     let mut v = Vector3::from(n.a) / n.mass;
                     if n.touch > 0.0 {
                         let z = g.owned_position(b, local).z;
-                        if let Some(k) = contact::nearer(&scene.plates, z) {
-                            let plate = &scene.plates[k];
-                            contact::apply(k, plate, scene.friction, n.mass, &mut v, None);
-                        }
+                        contact::apply_nearest(
+                            &scene.plates,
+                            scene.friction,
+                            z,
+                            n.mass,
+                            &mut v,
+                            None,
+                        );
                     }
                     n.a = v.into();
                 }
