@@ -13,6 +13,9 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     // A long job holds the only worker, so the small one is still queued when we listen.
     let blocker = app.submit(&long_case()).await;
     let blocker_id = blocker["id"].as_str().unwrap().to_string();
+    // Wait until a worker holds it, so its cancel below is the running-job kind (202).
+    app.wait_for(&blocker_id, &["running"], Duration::from_secs(30))
+        .await;
     let mut case = tiny_case();
     case["label"] = json!("sse-test");
     let r = app
