@@ -15,6 +15,7 @@ use super::shape::Stencil;
 use super::Real;
 use nalgebra::Vector3;
 use rayon::prelude::*;
+use wide::f64x4;
 
 /// Cells (and owned nodes) per block edge.
 pub const BLOCK: i32 = 4;
@@ -27,15 +28,15 @@ pub const PADDED: usize = PAD * PAD * PAD;
 const NONE: u32 = u32::MAX;
 const MARK: u32 = u32::MAX - 1;
 
-/// One node's accumulators. What `a` and `b` hold depends on the phase (see `step.rs`).
+/// One node's accumulators, as two four-lane vectors: `lo` = [mass, a₀, a₁, a₂] and
+/// `hi` = [b₀, b₁, b₂, touch]. What `a` and `b` hold depends on the phase (see `step.rs`);
+/// `touch` is the mass contributed by particles that touch a plate: > 0 puts the node in contact.
+/// One node is one cache line, and every update of it is a few vector instructions.
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(64))]
 pub struct Node {
-    pub mass: Real,
-    pub a: [Real; 3],
-    pub b: [Real; 3],
-    /// Mass contributed by particles that touch a plate: > 0 puts the node in contact.
-    pub touch: Real,
+    pub lo: f64x4,
+    pub hi: f64x4,
 }
 
 impl Node {
@@ -45,8 +46,40 @@ impl Node {
         if all {
             *self = Node::default();
         } else {
-            self.a = [0.0; 3];
+            self.lo = f64x4::new([self.mass(), 0.0, 0.0, 0.0]);
         }
+    }
+
+    #[inline(always)]
+    pub fn mass(&self) -> Real {
+        self.lo.as_array()[0]
+    }
+
+    #[inline(always)]
+    pub fn touch(&self) -> Real {
+        self.hi.as_array()[3]
+    }
+
+    #[inline(always)]
+    pub fn a(&self) -> Vector3<Real> {
+        let l = self.lo.as_array();
+        Vector3::new(l[1], l[2], l[3])
+    }
+
+    #[inline(always)]
+    pub fn b(&self) -> Vector3<Real> {
+        let h = self.hi.as_array();
+        Vector3::new(h[0], h[1], h[2])
+    }
+
+    #[inline(always)]
+    pub fn set_a(&mut self, a: &Vector3<Real>) {
+        self.lo = f64x4::new([self.mass(), a.x, a.y, a.z]);
+    }
+
+    #[inline(always)]
+    pub fn set_b(&mut self, b: &Vector3<Real>) {
+        self.hi = f64x4::new([b.x, b.y, b.z, self.touch()]);
     }
 }
 
@@ -304,15 +337,11 @@ impl Grid {
                                     (lz - 4 * d[2] + 1) as usize,
                                 )];
                                 let o = &mut own[((lx * 4 + ly) * 4 + lz) as usize];
-                                for c in 0..3 {
-                                    o.a[c] += s.a[c];
-                                }
+                                // Without `all` the padded mass lane is 0 (see `Node::clear`
+                                // in the remap's p2g), so adding `lo` adds only momentum.
+                                o.lo += s.lo;
                                 if all {
-                                    o.mass += s.mass;
-                                    o.touch += s.touch;
-                                    for c in 0..3 {
-                                        o.b[c] += s.b[c];
-                                    }
+                                    o.hi += s.hi;
                                 }
                             }
                         }
@@ -440,14 +469,15 @@ mod tests {
                                 (e[1].0 + j as i32 - o[1]) as usize,
                                 (e[2].0 + k as i32 - o[2]) as usize,
                             );
-                            pad[idx].mass += e[0].1[i] * e[1].1[j] * e[2].1[k];
+                            let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
+                            pad[idx].lo += f64x4::new([w, 0.0, 0.0, 0.0]);
                         }
                     }
                 }
             }
         }
         g.reduce(true);
-        let total: Real = g.owned.iter().map(|n| n.mass).sum();
+        let total: Real = g.owned.iter().map(|n| n.mass()).sum();
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
         g.broadcast();
         // Every padded node now equals its owner.
@@ -473,7 +503,7 @@ mod tests {
                     ];
                     let on =
                         g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
-                    assert_eq!(n.mass, on.mass);
+                    assert_eq!(n.mass(), on.mass());
                 }
             }
         }

@@ -9,8 +9,8 @@
 //! (USL) blows up at cell crossings. (We tried an APIC transfer without the remap: it blew up
 //! exactly so with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
-//! Node accumulators (`grid::Node`) by phase: after the first p2g, `a` = momentum and
-//! `b` = force; after the grid update, `a` = new velocity and `b` = velocity change; after the
+//! Node accumulators (`grid::Node`, lanes of two vectors) by phase: after the first p2g,
+//! `a` = momentum and `b` = force; after the grid update, `a` = new velocity and `b` = velocity change; after the
 //! remap, `a` = remapped velocity.
 
 use super::contact::{self, ContactSums};
@@ -21,6 +21,7 @@ use super::shape::{Gimp, Linear, Stencil};
 use super::{case::ShapeKind, Real, SolveError};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
+use wide::f64x4;
 
 /// Particles per parallel work item in particle-order passes.
 const CHUNK: usize = 1024;
@@ -202,7 +203,15 @@ impl Simulation {
             .par_chunks_mut(PADDED)
             .enumerate()
             .for_each(|(b, pad)| {
-                pad.iter_mut().for_each(|n| n.clear(FULL));
+                // The remap's scatter zeroes the mass lane too: `Grid::reduce` then adds
+                // only momentum to the owned nodes.
+                let zero = f64x4::splat(0.0);
+                pad.iter_mut().for_each(|n| {
+                    n.lo = zero;
+                    if FULL {
+                        n.hi = zero;
+                    }
+                });
                 let o = g.padded_origin(b);
                 for &q in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
                     let q = q as usize;
@@ -215,33 +224,39 @@ impl Simulation {
                         (by - o[1]) as usize,
                         (bz - o[2]) as usize,
                     );
-                    let m = p.mass[q];
-                    let mv = p.v[q] * m;
+                    let (m, v) = (p.mass[q], p.v[q]);
+                    // [mass, momentum] (no mass in the remap).
+                    let mv = f64x4::new([if FULL { m } else { 0.0 }, m * v.x, m * v.y, m * v.z]);
+                    // Particles touching a plate put their mass in the touch lane.
                     let touch = if FULL && contact::touches(plates, p.x[q].z, half, tolerance) {
                         m
                     } else {
                         0.0
                     };
+                    // σ·V/h by columns: the force on node (i, j, k) is −(c0·∂x + c1·∂y + c2·∂z)
+                    // of its weight, = fa·N_z + fb·N_z′ per (i, j) row.
                     let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
+                    let (c0, c1, c2) = (vs.column(0), vs.column(1), vs.column(2));
                     for i in 0..S::N {
                         for j in 0..S::N {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
                             let row = padded_index(ox + i, oy + j, oz);
-                            for k in 0..S::N {
-                                let w = wxy * wz[k];
-                                let n = &mut pad[row + k];
-                                let mom = mv * w;
-                                n.a[0] += mom.x;
-                                n.a[1] += mom.y;
-                                n.a[2] += mom.z;
-                                if FULL {
-                                    n.mass += m * w;
-                                    n.touch += touch * w;
-                                    let grad = Vector3::new(gxy * wz[k], wgxy * wz[k], wxy * gz[k]);
-                                    let f = vs * grad;
-                                    n.b[0] -= f.x;
-                                    n.b[1] -= f.y;
-                                    n.b[2] -= f.z;
+                            let lo = mv * f64x4::splat(wxy);
+                            if FULL {
+                                let fa = c0 * gxy + c1 * wgxy;
+                                let fb = c2 * wxy;
+                                let fa = f64x4::new([-fa.x, -fa.y, -fa.z, touch * wxy]);
+                                let fb = f64x4::new([-fb.x, -fb.y, -fb.z, 0.0]);
+                                for k in 0..S::N {
+                                    let n = &mut pad[row + k];
+                                    let w = f64x4::splat(wz[k]);
+                                    n.lo = lo.mul_add(w, n.lo);
+                                    n.hi = fb.mul_add(f64x4::splat(gz[k]), fa.mul_add(w, n.hi));
+                                }
+                            } else {
+                                for k in 0..S::N {
+                                    let n = &mut pad[row + k];
+                                    n.lo = lo.mul_add(f64x4::splat(wz[k]), n.lo);
                                 }
                             }
                         }
@@ -265,26 +280,27 @@ impl Simulation {
             .for_each(|(b, (own, sums))| {
                 *sums = ContactSums::default();
                 for (local, n) in own.iter_mut().enumerate() {
-                    if n.mass <= floor {
-                        n.a = [0.0; 3];
-                        n.b = [0.0; 3];
+                    let m = n.mass();
+                    if m <= floor {
+                        n.set_a(&Vector3::zeros());
+                        n.set_b(&Vector3::zeros());
                         continue;
                     }
-                    let old = Vector3::from(n.a) / n.mass;
-                    let mut v = old + Vector3::from(n.b) * (dt / n.mass);
-                    if n.touch > 0.0 {
+                    let old = n.a() / m;
+                    let mut v = old + n.b() * (dt / m);
+                    if n.touch() > 0.0 {
                         let z = g.owned_position(b, local).z;
                         contact::apply_nearest(
                             &scene.plates,
                             scene.friction,
                             z,
-                            n.mass,
+                            m,
                             &mut v,
                             Some(sums),
                         );
                     }
-                    n.a = v.into();
-                    n.b = (v - old).into();
+                    n.set_a(&v);
+                    n.set_b(&(v - old));
                 }
             });
         self.grid.owned = owned;
@@ -306,23 +322,17 @@ impl Simulation {
             .enumerate()
             .for_each(|(b, own)| {
                 for (local, n) in own.iter_mut().enumerate() {
-                    if n.mass <= floor {
-                        n.a = [0.0; 3];
+                    let m = n.mass();
+                    if m <= floor {
+                        n.set_a(&Vector3::zeros());
                         continue;
                     }
-                    let mut v = Vector3::from(n.a) / n.mass;
-                    if n.touch > 0.0 {
+                    let mut v = n.a() / m;
+                    if n.touch() > 0.0 {
                         let z = g.owned_position(b, local).z;
-                        contact::apply_nearest(
-                            &scene.plates,
-                            scene.friction,
-                            z,
-                            n.mass,
-                            &mut v,
-                            None,
-                        );
+                        contact::apply_nearest(&scene.plates, scene.friction, z, m, &mut v, None);
                     }
-                    n.a = v.into();
+                    n.set_a(&v);
                 }
             });
         self.grid.owned = owned;
@@ -338,16 +348,21 @@ impl Simulation {
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
                 let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
-                let mut dv = Vector3::zeros();
+                // Lanes 0..3 of `hi` are the velocity change b (lane 3, touch, is unused).
+                let mut acc = f64x4::splat(0.0);
                 for i in 0..S::N {
                     for j in 0..S::N {
                         let wxy = e[0].1[i] * e[1].1[j];
                         let row = padded_index(ox + i, oy + j, oz);
+                        let mut s = f64x4::splat(0.0);
                         for k in 0..S::N {
-                            dv += Vector3::from(pad[row + k].b) * (wxy * e[2].1[k]);
+                            s = pad[row + k].hi.mul_add(f64x4::splat(e[2].1[k]), s);
                         }
+                        acc = s.mul_add(f64x4::splat(wxy), acc);
                     }
                 }
+                let a = acc.as_array();
+                let dv = Vector3::new(a[0], a[1], a[2]);
                 *v += dv;
             }
         });
@@ -366,22 +381,33 @@ impl Simulation {
                 for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
                     let q = c * CHUNK + i;
                     let (pad, ox, oy, oz, e) = stencil::<S>(g, q, *x * inv, lp);
-                    let mut l = Matrix3::zeros();
-                    let mut vel = Vector3::zeros();
+                    // Lanes 1..4 of `lo` are the velocity. Per (i, j) row, s = Σ v·N_z and
+                    // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
+                    let zero = f64x4::splat(0.0);
+                    let (mut vel, mut l0, mut l1, mut l2) = (zero, zero, zero, zero);
                     for i in 0..S::N {
                         for j in 0..S::N {
                             let (wx, wy) = (e[0].1[i], e[1].1[j]);
                             let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
                             let row = padded_index(ox + i, oy + j, oz);
+                            let (mut s, mut t) = (zero, zero);
                             for k in 0..S::N {
-                                let wz = e[2].1[k];
-                                let vn = Vector3::from(pad[row + k].a);
-                                let dw = Vector3::new(gxy * wz, wgxy * wz, wxy * e[2].2[k]);
-                                vel += vn * (wxy * wz);
-                                l += vn * dw.transpose();
+                                let vn = pad[row + k].lo;
+                                s = vn.mul_add(f64x4::splat(e[2].1[k]), s);
+                                t = vn.mul_add(f64x4::splat(e[2].2[k]), t);
                             }
+                            vel = s.mul_add(f64x4::splat(wxy), vel);
+                            l0 = s.mul_add(f64x4::splat(gxy), l0);
+                            l1 = s.mul_add(f64x4::splat(wgxy), l1);
+                            l2 = t.mul_add(f64x4::splat(wxy), l2);
                         }
                     }
+                    let (c0, c1, c2) = (l0.as_array(), l1.as_array(), l2.as_array());
+                    let l = Matrix3::new(
+                        c0[1], c1[1], c2[1], c0[2], c1[2], c2[2], c0[3], c1[3], c2[3],
+                    );
+                    let vel = vel.as_array();
+                    let vel = Vector3::new(vel[1], vel[2], vel[3]);
                     *grad = l * inv;
                     *x += vel * dt;
                 }
