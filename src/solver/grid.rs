@@ -21,10 +21,6 @@ use wide::f64x4;
 pub const BLOCK: i32 = 4;
 /// Owned nodes per block.
 pub const OWNED: usize = 64;
-/// Padded nodes per block edge: owned nodes −1 ..= +5.
-pub const PAD: usize = 7;
-/// Padded nodes per block.
-pub const PADDED: usize = PAD * PAD * PAD;
 const NONE: u32 = u32::MAX;
 const MARK: u32 = u32::MAX - 1;
 
@@ -112,6 +108,10 @@ pub struct Grid {
     pub cell_pressure: Vec<[Real; 64]>,
     pub padded: Vec<Node>,
     pub owned: Vec<Node>,
+    /// Padded geometry of the shape function in use: first padded node relative to the block's
+    /// first owned node, and padded nodes per edge (`Stencil::PAD_LO`, `Stencil::PAD`).
+    pub pad_lo: i32,
+    pub pad: usize,
     cursor: Vec<u32>,
 }
 
@@ -121,19 +121,28 @@ pub fn neighbor_index(d: [i32; 3]) -> usize {
     ((d[0] + 1) * 9 + (d[1] + 1) * 3 + (d[2] + 1)) as usize
 }
 
-/// Index of a padded node from its coordinates 0..7 relative to the padded origin.
+/// Index of padded node (i, j, k) in a buffer of `pad` nodes per edge.
 #[inline(always)]
-pub fn padded_index(i: usize, j: usize, k: usize) -> usize {
-    (i * PAD + j) * PAD + k
+pub fn padded_index(pad: usize, i: usize, j: usize, k: usize) -> usize {
+    (i * pad + j) * pad + k
 }
 
 impl Grid {
-    pub fn new(cell: Real) -> Grid {
+    /// An empty grid of cell size `cell` (mm) for the stencils of shape `S`.
+    pub fn new<S: Stencil>(cell: Real) -> Grid {
         Grid {
             cell,
             inv_cell: 1.0 / cell,
+            pad_lo: S::PAD_LO,
+            pad: S::PAD,
             ..Default::default()
         }
+    }
+
+    /// Nodes per padded buffer.
+    #[inline(always)]
+    pub fn padded_len(&self) -> usize {
+        self.pad * self.pad * self.pad
     }
 
     /// Number of active blocks.
@@ -145,11 +154,11 @@ impl Grid {
         self.blocks.is_empty()
     }
 
-    /// Node coordinates of the padded origin (owned origin − 1) of block `b`.
+    /// Node coordinates of the padded origin of block `b`.
     #[inline(always)]
     pub fn padded_origin(&self, b: usize) -> [i32; 3] {
         let c = self.blocks[b];
-        [c[0] * BLOCK - 1, c[1] * BLOCK - 1, c[2] * BLOCK - 1]
+        c.map(|c| c * BLOCK + self.pad_lo)
     }
 
     /// Sorts particles into blocks and activates every block a stencil touches.
@@ -293,7 +302,7 @@ impl Grid {
         }
         self.cell_dilation.resize(nb, [0.0; 64]);
         self.cell_pressure.resize(nb, [0.0; 64]);
-        self.padded.resize(nb * PADDED, Node::default());
+        self.padded.resize(nb * self.padded_len(), Node::default());
         self.owned.resize(nb * OWNED, Node::default());
     }
 
@@ -314,31 +323,34 @@ impl Grid {
 
     /// Sums the padded buffers into the owned nodes: mass, `a` and `b` when `all`, else `a` only.
     pub fn reduce(&mut self, all: bool) {
-        let padded = &self.padded;
-        let neighbors = &self.neighbors;
+        let (padded, neighbors) = (&self.padded, &self.neighbors);
+        let (pad, lo, len) = (self.pad, self.pad_lo, self.padded_len());
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
                 own.iter_mut().for_each(|n| n.clear(all));
                 for (k, &nb) in neighbors[b].iter().enumerate() {
+                    // The neighbour at offset d holds our nodes as its neighbour at −d.
+                    let e = neighbor_offset(k).map(|d| -d);
+                    let (Some(x), Some(y), Some(z)) = (
+                        overlap(e[0], lo, pad),
+                        overlap(e[1], lo, pad),
+                        overlap(e[2], lo, pad),
+                    ) else {
+                        continue;
+                    };
                     if nb == NONE {
                         continue;
                     }
-                    let d = [k as i32 / 9 - 1, (k as i32 / 3) % 3 - 1, k as i32 % 3 - 1];
-                    let src = &padded[nb as usize * PADDED..(nb as usize + 1) * PADDED];
-                    let (rx, ry, rz) = (overlap(d[0]), overlap(d[1]), overlap(d[2]));
-                    for lx in rx.0..=rx.1 {
-                        for ly in ry.0..=ry.1 {
-                            for lz in rz.0..=rz.1 {
-                                let s = &src[padded_index(
-                                    (lx - 4 * d[0] + 1) as usize,
-                                    (ly - 4 * d[1] + 1) as usize,
-                                    (lz - 4 * d[2] + 1) as usize,
-                                )];
-                                let o = &mut own[((lx * 4 + ly) * 4 + lz) as usize];
-                                // Without `all` the padded mass lane is 0 (see `Node::clear`
-                                // in the remap's p2g), so adding `lo` adds only momentum.
+                    let src = &padded[nb as usize * len..(nb as usize + 1) * len];
+                    for i in 0..x.2 {
+                        for j in 0..y.2 {
+                            for k in 0..z.2 {
+                                let s = &src[padded_index(pad, x.0 + i, y.0 + j, z.0 + k)];
+                                let o = &mut own[((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k];
+                                // Without `all` the padded mass lane is 0 (see the remap's
+                                // p2g), so adding `lo` adds only momentum.
                                 o.lo += s.lo;
                                 if all {
                                     o.hi += s.hi;
@@ -352,24 +364,31 @@ impl Grid {
 
     /// Copies the owned nodes into every padded buffer that holds them.
     pub fn broadcast(&mut self) {
-        let owned = &self.owned;
-        let neighbors = &self.neighbors;
+        let (owned, neighbors) = (&self.owned, &self.neighbors);
+        let (pad, lo, len) = (self.pad, self.pad_lo, self.padded_len());
         self.padded
-            .par_chunks_mut(PADDED)
+            .par_chunks_mut(len)
             .enumerate()
-            .for_each(|(b, pad)| {
-                for i in 0..PAD {
-                    let (dx, lx) = split(i);
-                    for j in 0..PAD {
-                        let (dy, ly) = split(j);
-                        for k in 0..PAD {
-                            let (dz, lz) = split(k);
-                            let nb = neighbors[b][neighbor_index([dx, dy, dz])];
-                            pad[padded_index(i, j, k)] = if nb == NONE {
-                                Node::default()
-                            } else {
-                                owned[nb as usize * OWNED + ((lx * 4 + ly) * 4 + lz) as usize]
-                            };
+            .for_each(|(b, buf)| {
+                for (k, &nb) in neighbors[b].iter().enumerate() {
+                    let e = neighbor_offset(k);
+                    let (Some(x), Some(y), Some(z)) = (
+                        overlap(e[0], lo, pad),
+                        overlap(e[1], lo, pad),
+                        overlap(e[2], lo, pad),
+                    ) else {
+                        continue;
+                    };
+                    for i in 0..x.2 {
+                        for j in 0..y.2 {
+                            for k in 0..z.2 {
+                                buf[padded_index(pad, x.0 + i, y.0 + j, z.0 + k)] = if nb == NONE {
+                                    Node::default()
+                                } else {
+                                    let local = ((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k;
+                                    owned[nb as usize * OWNED + local]
+                                };
+                            }
                         }
                     }
                 }
@@ -409,27 +428,27 @@ impl Grid {
     }
 }
 
-/// Owned-node range (inclusive) of a block that a neighbour at offset `d` covers with its padding.
+/// The offset in {−1, 0, 1}³ of neighbour `k` (see [`neighbor_index`]).
 #[inline(always)]
-fn overlap(d: i32) -> (i32, i32) {
-    match d {
-        -1 => (0, 1),
-        0 => (0, 3),
-        _ => (3, 3),
-    }
+fn neighbor_offset(k: usize) -> [i32; 3] {
+    let k = k as i32;
+    [k / 9 - 1, (k / 3) % 3 - 1, k % 3 - 1]
 }
 
-/// Padded coordinate 0..7 → (neighbour offset, local coordinate in that neighbour).
+/// Along one axis: which padded nodes of a block (padded origin `lo` nodes from its first owned
+/// node, `pad` nodes) are owned by the block `e` blocks further on, as (first padded
+/// coordinate, first owned coordinate in that block, count); None if none are.
 #[inline(always)]
-fn split(q: usize) -> (i32, i32) {
-    let l = q as i32 - 1;
-    if l < 0 {
-        (-1, l + 4)
-    } else if l < 4 {
-        (0, l)
-    } else {
-        (1, l - 4)
-    }
+fn overlap(e: i32, lo: i32, pad: usize) -> Option<(usize, usize, usize)> {
+    let p0 = (BLOCK * e - lo).max(0);
+    let p1 = (BLOCK * e - lo + BLOCK - 1).min(pad as i32 - 1);
+    (p1 >= p0).then(|| {
+        (
+            p0 as usize,
+            (p0 + lo - BLOCK * e) as usize,
+            (p1 - p0 + 1) as usize,
+        )
+    })
 }
 
 #[cfg(test)]
@@ -450,13 +469,14 @@ mod tests {
                 ));
             }
         }
-        let mut g = Grid::new(0.5);
+        let mut g = Grid::new::<S>(0.5);
         let lp = 0.25;
         g.bin::<S>(&x, lp);
         for b in 0..g.len() {
             let o = g.padded_origin(b);
-            let pad = &mut g.padded[b * PADDED..(b + 1) * PADDED];
-            pad.iter_mut().for_each(|n| *n = Node::default());
+            let (len, pad) = (g.padded_len(), g.pad);
+            let buf = &mut g.padded[b * len..(b + 1) * len];
+            buf.iter_mut().for_each(|n| *n = Node::default());
             for &p in &g.order[g.starts[b] as usize..g.starts[b + 1] as usize] {
                 let e: Vec<_> = (0..3)
                     .map(|a| S::eval(x[p as usize][a] * 2.0, lp))
@@ -465,12 +485,13 @@ mod tests {
                     for j in 0..S::N {
                         for k in 0..S::N {
                             let idx = padded_index(
+                                pad,
                                 (e[0].0 + i as i32 - o[0]) as usize,
                                 (e[1].0 + j as i32 - o[1]) as usize,
                                 (e[2].0 + k as i32 - o[2]) as usize,
                             );
                             let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
-                            pad[idx].lo += f64x4::new([w, 0.0, 0.0, 0.0]);
+                            buf[idx].lo += f64x4::new([w, 0.0, 0.0, 0.0]);
                         }
                     }
                 }
@@ -483,11 +504,12 @@ mod tests {
         // Every padded node now equals its owner.
         for b in 0..g.len() {
             let o = g.padded_origin(b);
-            for (q, n) in g.padded[b * PADDED..(b + 1) * PADDED].iter().enumerate() {
+            let (len, pad) = (g.padded_len(), g.pad);
+            for (q, n) in g.padded[b * len..(b + 1) * len].iter().enumerate() {
                 let node = [
-                    o[0] + (q / 49) as i32,
-                    o[1] + ((q / 7) % 7) as i32,
-                    o[2] + (q % 7) as i32,
+                    o[0] + (q / (pad * pad)) as i32,
+                    o[1] + ((q / pad) % pad) as i32,
+                    o[2] + (q % pad) as i32,
                 ];
                 let blk = [
                     node[0].div_euclid(4),

@@ -5,6 +5,10 @@
 pub trait Stencil: Send + Sync + 'static {
     /// Nodes per axis that may carry weight.
     const N: usize;
+    /// The grid's padded block buffers: first node relative to the block's first owned node,
+    /// and nodes per edge, so that the stencil of any particle whose cell is in the block fits.
+    const PAD_LO: i32;
+    const PAD: usize;
     /// For a particle at `x` (grid units) with half-size `lp` (grid units): the first node of its
     /// stencil, the weights and the weight derivatives (per grid unit) of nodes `base..base+N`.
     fn eval(x: f64, lp: f64) -> (i32, [f64; 3], [f64; 3]);
@@ -15,6 +19,8 @@ pub struct Linear;
 
 impl Stencil for Linear {
     const N: usize = 2;
+    const PAD_LO: i32 = 0;
+    const PAD: usize = 5;
     #[inline(always)]
     fn eval(x: f64, _lp: f64) -> (i32, [f64; 3], [f64; 3]) {
         let base = x.floor();
@@ -25,40 +31,31 @@ impl Stencil for Linear {
 
 /// Uniform GIMP: the particle is a box of half-width `lp` ≤ ½ cell that never changes.
 /// At most three nodes per axis carry weight.
+///
+/// With the stencil starting at node `base = ⌊x − lp⌋` and `f = x − lp − base` in [0, 1): while
+/// the particle lies inside one cell (`f ≤ 1 − 2·lp`) the weights are the linear ones
+/// (1 − lp − f, lp + f, 0); once it straddles node `base + 1`, by `c = f − (1 − 2·lp)`, the
+/// quadratic pieces add c²/(4·lp) to the outer nodes and take twice that from the middle one.
+/// Written with `c = max(0, ·)` this has no branch: particles of the regular lattice sit right at
+/// the switch, where a branch would be mispredicted half the time (measured: a third slower).
 pub struct Gimp;
-
-impl Gimp {
-    /// Weight and derivative of a node at signed distance `d = x − x_i` (grid units).
-    #[inline(always)]
-    fn node(d: f64, lp: f64) -> (f64, f64) {
-        let a = d.abs();
-        let s = d.signum();
-        if a < lp {
-            (1.0 - (d * d + lp * lp) / (2.0 * lp), -d / lp)
-        } else if a <= 1.0 - lp {
-            (1.0 - a, -s)
-        } else if a < 1.0 + lp {
-            let r = 1.0 + lp - a;
-            (r * r / (4.0 * lp), -s * r / (2.0 * lp))
-        } else {
-            (0.0, 0.0)
-        }
-    }
-}
 
 impl Stencil for Gimp {
     const N: usize = 3;
+    const PAD_LO: i32 = -1;
+    const PAD: usize = 7;
     #[inline(always)]
     fn eval(x: f64, lp: f64) -> (i32, [f64; 3], [f64; 3]) {
         let base = (x - lp).floor();
-        let mut w = [0.0; 3];
-        let mut g = [0.0; 3];
-        for k in 0..3 {
-            let (wk, gk) = Gimp::node(x - (base + k as f64), lp);
-            w[k] = wk;
-            g[k] = gk;
-        }
-        (base as i32, w, g)
+        let f = x - lp - base;
+        let c = (f - (1.0 - 2.0 * lp)).max(0.0);
+        let h = 0.5 / lp;
+        let (cq, ch) = (0.5 * c * c * h, c * h);
+        (
+            base as i32,
+            [1.0 - lp - f + cq, lp + f - 2.0 * cq, cq],
+            [ch - 1.0, 1.0 - 2.0 * ch, ch],
+        )
     }
 }
 

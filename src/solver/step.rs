@@ -14,7 +14,7 @@
 //! remap, `a` = remapped velocity.
 
 use super::contact::{self, ContactSums};
-use super::grid::{padded_index, Grid, Node, OWNED, PADDED};
+use super::grid::{padded_index, Grid, Node, OWNED};
 use super::material::to_matrix;
 use super::scene::Scene;
 use super::shape::{Gimp, Linear, Stencil};
@@ -120,7 +120,10 @@ impl Simulation {
             .iter()
             .map(|v| v.norm())
             .fold(0.0, Real::max);
-        let grid = Grid::new(scene.cell);
+        let grid = match scene.shape {
+            ShapeKind::Linear => Grid::new::<Linear>(scene.cell),
+            ShapeKind::Gimp => Grid::new::<Gimp>(scene.cell),
+        };
         Simulation {
             scene,
             grid,
@@ -200,7 +203,7 @@ impl Simulation {
         let g = &self.grid;
         let inv = g.inv_cell;
         padded
-            .par_chunks_mut(PADDED)
+            .par_chunks_mut(g.padded_len())
             .enumerate()
             .for_each(|(b, pad)| {
                 // The remap's scatter zeroes the mass lane too: `Grid::reduce` then adds
@@ -240,7 +243,7 @@ impl Simulation {
                     for i in 0..S::N {
                         for j in 0..S::N {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
-                            let row = padded_index(ox + i, oy + j, oz);
+                            let row = padded_index(S::PAD, ox + i, oy + j, oz);
                             let lo = mv * f64x4::splat(wxy);
                             if FULL {
                                 let fa = c0 * gxy + c1 * wgxy;
@@ -353,7 +356,7 @@ impl Simulation {
                 for i in 0..S::N {
                     for j in 0..S::N {
                         let wxy = e[0].1[i] * e[1].1[j];
-                        let row = padded_index(ox + i, oy + j, oz);
+                        let row = padded_index(S::PAD, ox + i, oy + j, oz);
                         let mut s = f64x4::splat(0.0);
                         for k in 0..S::N {
                             s = pad[row + k].hi.mul_add(f64x4::splat(e[2].1[k]), s);
@@ -389,7 +392,7 @@ impl Simulation {
                         for j in 0..S::N {
                             let (wx, wy) = (e[0].1[i], e[1].1[j]);
                             let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
-                            let row = padded_index(ox + i, oy + j, oz);
+                            let row = padded_index(S::PAD, ox + i, oy + j, oz);
                             let (mut s, mut t) = (zero, zero);
                             for k in 0..S::N {
                                 let vn = pad[row + k].lo;
@@ -502,9 +505,13 @@ impl Simulation {
                     sums.signal = sums
                         .signal
                         .max((modulus * vols[i] / mass[q]).sqrt() + vs[q].norm());
-                    if sums.bad.is_none() {
-                        sums.bad = diagnose(&xs[q], &ss[i], vols[i], &vs[q], &domain)
-                            .map(|what| (q, what));
+                    // One sum is not finite if any term is not: the full check names the
+                    // fault only then.
+                    let (x, v, st) = (&xs[q], &vs[q], &ss[i]);
+                    let total = x.sum() + v.sum() + st.iter().sum::<Real>() + vols[i];
+                    let inside = (0..3).all(|a| x[a] >= domain[0][a] && x[a] <= domain[1][a]);
+                    if sums.bad.is_none() && !(total.is_finite() && vols[i] > 0.0 && inside) {
+                        sums.bad = diagnose(x, st, vols[i], v, &domain).map(|what| (q, what));
                     }
                 }
                 sums
@@ -583,7 +590,7 @@ fn stencil<S: Stencil>(
     let o = g.padded_origin(b);
     let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
     (
-        &g.padded[b * PADDED..(b + 1) * PADDED],
+        &g.padded[b * g.padded_len()..(b + 1) * g.padded_len()],
         (e[0].0 - o[0]) as usize,
         (e[1].0 - o[1]) as usize,
         (e[2].0 - o[2]) as usize,
