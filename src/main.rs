@@ -1,4 +1,4 @@
-//! `crush serve | run`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | bench`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -19,6 +19,11 @@ enum Command {
     Serve(crush::service::ServeArgs),
     /// Run one crush case and write its history and summary.
     Run(crush::cli::RunArgs),
+    /// Measure solver speed (particle-steps/s), time per phase and memory per particle.
+    Bench(crush::cli::BenchArgs),
+    /// One bench measurement (used by `bench`; reads the case on stdin).
+    #[command(hide = true)]
+    BenchOne(crush::cli::BenchOneArgs),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -30,5 +35,7 @@ fn main() -> anyhow::Result<()> {
             runtime.block_on(crush::service::serve(args))
         }
         Command::Run(args) => crush::cli::run(args),
+        Command::Bench(args) => crush::cli::bench(args),
+        Command::BenchOne(args) => crush::cli::bench_one(args),
     }
 }

@@ -1,11 +1,15 @@
 //! Command-line runners around the solver: `crush run CASE.json` runs one case with a progress
-//! bar, prints a summary and writes `history.csv` and `summary.json`.
+//! bar, prints a summary and writes `history.csv` and `summary.json`; `crush bench` measures
+//! the solver's speed and memory.
 
+mod bench;
 mod output;
+mod plot;
 mod progress;
 mod report;
 mod run;
 
+pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
 pub use output::{write_history_csv, write_summary_json, SummaryFile};
 pub use report::format_report;
 pub use run::run;

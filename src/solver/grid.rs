@@ -145,6 +145,16 @@ impl Grid {
         self.pad * self.pad * self.pad
     }
 
+    /// After the particles were reordered by `order` (`Particles::permute`): carries the
+    /// per-particle binning along, so that block b's particles are now `starts[b]..starts[b+1]`.
+    pub fn adopt_order(&mut self, seen: &mut Vec<bool>) {
+        super::particles::permute(&mut self.home, &self.order, seen);
+        super::particles::permute(&mut self.cell_of, &self.order, seen);
+        for (i, o) in self.order.iter_mut().enumerate() {
+            *o = i as u32;
+        }
+    }
+
     /// Number of active blocks.
     pub fn len(&self) -> usize {
         self.blocks.len()

@@ -42,6 +42,21 @@ impl Particles {
         self.plastic_strain.push(0.0);
     }
 
+    /// Reorders every particle so that new particle `i` is old particle `order[i]` (`order` a
+    /// permutation), in place; `seen` is scratch of any length. The velocity-gradient scratch
+    /// `grad` is left alone: it is recomputed before it is next read.
+    pub fn permute(&mut self, order: &[u32], seen: &mut Vec<bool>) {
+        permute(&mut self.x, order, seen);
+        permute(&mut self.v, order, seen);
+        permute(&mut self.stress, order, seen);
+        permute(&mut self.mass, order, seen);
+        permute(&mut self.vol, order, seen);
+        permute(&mut self.plastic_strain, order, seen);
+        if !self.yield_scale.is_empty() {
+            permute(&mut self.yield_scale, order, seen);
+        }
+    }
+
     /// Total momentum, g·mm/ms.
     pub fn momentum(&self) -> Vector3<Real> {
         self.v.iter().zip(&self.mass).map(|(v, m)| v * *m).sum()
@@ -57,5 +72,49 @@ impl Particles {
                 * size_of::<Real>()
             + self.grad.capacity() * size_of::<Matrix3<Real>>()
             + self.yield_scale.capacity() * size_of::<Real>()
+    }
+}
+
+/// `v[i] ← v[order[i]]` for a permutation `order`, in place, cycle by cycle.
+pub fn permute<T>(v: &mut [T], order: &[u32], seen: &mut Vec<bool>) {
+    seen.clear();
+    seen.resize(v.len(), false);
+    for start in 0..v.len() {
+        if seen[start] {
+            continue;
+        }
+        // Along the cycle start → order[start] → …, each slot takes its successor's value; the
+        // start's value travels along by the swaps and lands in the cycle's last slot.
+        let mut j = start;
+        loop {
+            seen[j] = true;
+            let k = order[j] as usize;
+            if k == start {
+                break;
+            }
+            v.swap(j, k);
+            j = k;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn permute_moves_each_value_to_its_new_place() {
+        let old: Vec<u32> = (0..50).map(|i| i * 7 + 3).collect();
+        // A permutation with cycles of several lengths and fixed points.
+        let order: Vec<u32> = (0..50u32).map(|i| (i * 17 + 5) % 50).collect();
+        let mut v = old.clone();
+        permute(&mut v, &order, &mut Vec::new());
+        for i in 0..50 {
+            assert_eq!(v[i], old[order[i] as usize]);
+        }
+        let identity: Vec<u32> = (0..50).collect();
+        let mut w = old.clone();
+        permute(&mut w, &identity, &mut Vec::new());
+        assert_eq!(w, old);
     }
 }

@@ -26,6 +26,12 @@ use wide::f64x4;
 /// Particles per parallel work item in particle-order passes.
 const CHUNK: usize = 1024;
 
+/// Every this many steps the particles are reordered block by block, so that the particles a
+/// block scatters are neighbours in memory too (measured: without it the time per
+/// particle-step grew by half from 110 k to 520 k particles). Particles move a small fraction
+/// of a block in this many steps.
+const RESORT_EVERY: u64 = 100;
+
 /// A particle touches a plate when its edge is within this share of its half-size of the
 /// surface: far more than the few micrometres it moves in a step, far less than its size.
 const CONTACT_TOLERANCE: Real = 0.05;
@@ -105,6 +111,8 @@ pub struct Simulation {
     mass_floor: Real,
     chunk_sums: Vec<ChunkSums>,
     block_sums: Vec<ContactSums>,
+    /// Scratch of the particle reordering.
+    seen: Vec<bool>,
 }
 
 impl Simulation {
@@ -135,6 +143,7 @@ impl Simulation {
             mass_floor: 1e-14 * mean_mass,
             chunk_sums: Vec::new(),
             block_sums: Vec::new(),
+            seen: Vec::new(),
         }
     }
 
@@ -170,6 +179,12 @@ impl Simulation {
         let lp = self.scene.half_size / self.scene.cell;
         let mut clock = Clock::start();
         self.grid.bin::<S>(&self.scene.particles.x, lp);
+        if self.steps.is_multiple_of(RESORT_EVERY) {
+            self.scene
+                .particles
+                .permute(&self.grid.order, &mut self.seen);
+            self.grid.adopt_order(&mut self.seen);
+        }
         clock.lap(&mut self.phases.bin);
         self.p2g::<S, true>(lp);
         clock.lap(&mut self.phases.p2g);

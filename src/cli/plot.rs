@@ -1,0 +1,157 @@
+//! Line plots as SVG and PNG (plotters). Text needs a font: the first of a few common system
+//! TrueType fonts is registered once; without one the plots are drawn without text and a
+//! warning says so.
+
+use anyhow::Context;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// One named line.
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+const FONT_PATHS: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/Library/Fonts/Arial.ttf",
+    "C:\\Windows\\Fonts\\arial.ttf",
+];
+
+/// Registers a system font as "sans-serif" once; false if none was found.
+fn font() -> bool {
+    static FOUND: OnceLock<bool> = OnceLock::new();
+    *FOUND.get_or_init(|| {
+        for path in FONT_PATHS {
+            if let Ok(bytes) = std::fs::read(path) {
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                    return true;
+                }
+            }
+        }
+        false
+    })
+}
+
+/// Draws `series` into `<stem>.svg` and `<stem>.png`. `titles` = (title, x label, y label).
+/// Both axes are logarithmic when `log` (all values must then be positive).
+pub fn lines(
+    stem: &Path,
+    titles: (&str, &str, &str),
+    series: &[Series],
+    log: bool,
+) -> anyhow::Result<()> {
+    let text = font();
+    if !text {
+        tracing::warn!("no TrueType font found: plots are drawn without text");
+    }
+    let svg = stem.with_extension("svg");
+    let png = stem.with_extension("png");
+    {
+        let root = SVGBackend::new(&svg, (900, 600)).into_drawing_area();
+        draw(&root, titles, series, log, text)
+            .with_context(|| format!("drawing {}", svg.display()))?;
+    }
+    {
+        let root = BitMapBackend::new(&png, (900, 600)).into_drawing_area();
+        draw(&root, titles, series, log, text)
+            .with_context(|| format!("drawing {}", png.display()))?;
+    }
+    Ok(())
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    (title, xlabel, ylabel): (&str, &str, &str),
+    series: &[Series],
+    log: bool,
+    text: bool,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let all = series.iter().flat_map(|s| s.points.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x0 > x1 {
+        return Ok(());
+    }
+    let pad = |a: f64, b: f64| {
+        if log {
+            (a / 1.3, b * 1.3)
+        } else {
+            let d = (b - a).abs().max(1e-9) * 0.05;
+            (a - d, b + d)
+        }
+    };
+    let ((x0, x1), (y0, y1)) = (pad(x0, x1), pad(y0, y1));
+    let mut builder = ChartBuilder::on(root);
+    builder.margin(20);
+    if text {
+        builder
+            .caption(title, ("sans-serif", 22))
+            .x_label_area_size(45)
+            .y_label_area_size(70);
+    }
+    macro_rules! finish {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            let mut mesh = chart.configure_mesh();
+            if text {
+                mesh.x_desc(xlabel).y_desc(ylabel);
+            } else {
+                mesh.disable_x_axis().disable_y_axis();
+            }
+            mesh.draw().map_err(|e| anyhow::anyhow!("{e}"))?;
+            for (k, s) in series.iter().enumerate() {
+                let color = Palette99::pick(k).to_rgba();
+                let drawn = chart
+                    .draw_series(LineSeries::new(
+                        s.points.iter().copied(),
+                        color.stroke_width(2),
+                    ))
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+                if text {
+                    drawn.label(s.name.as_str()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                }
+                chart
+                    .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+            }
+            if text {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+            }
+        }};
+    }
+    if log {
+        finish!(builder
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e}"))?);
+    } else {
+        finish!(builder
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| anyhow::anyhow!("{e}"))?);
+    }
+    root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(())
+}

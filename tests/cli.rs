@@ -1,0 +1,76 @@
+//! The command line, run as a user would: the real `crush` binary in a temporary directory.
+
+use std::process::Command;
+
+/// A tiny `crush bench` (one size, one thread, two steps) finishes, prints its table and writes
+/// a CSV whose rows carry plausible, self-consistent numbers.
+#[test]
+fn bench_writes_a_table_a_csv_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+        .args([
+            "bench",
+            "--n",
+            "2",
+            "--shape",
+            "linear,gimp",
+            "--threads",
+            "1",
+            "--steps",
+            "2",
+            "--repeats",
+            "2",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("Mp-steps/s"), "{stdout}");
+    let mut csv = csv::Reader::from_path(dir.path().join("bench.csv")).unwrap();
+    let header = csv.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = csv.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 4, "two shapes × two repeats");
+    for r in &rows {
+        let num = |name: &str| r[col(name)].parse::<f64>().unwrap();
+        let (particles, steps, wall) = (num("particles"), num("steps"), num("wall_s"));
+        assert!(particles > 1000.0 && steps == 2.0 && wall > 0.0);
+        let rate = num("particle_steps_per_s");
+        assert!((rate - particles * steps / wall).abs() <= 1e-4 * rate);
+        let phases: f64 = ["bin_s", "p2g_s", "grid_s", "g2p_s", "stress_s"]
+            .iter()
+            .map(|p| num(p))
+            .sum();
+        assert!(
+            phases > 0.5 * wall && phases <= 1.01 * wall,
+            "phases {phases} s of {wall} s"
+        );
+        assert!(num("accounted_bytes") / particles > 100.0);
+    }
+    for plot in ["bench.svg", "bench.png"] {
+        let len = std::fs::metadata(dir.path().join(plot)).unwrap().len();
+        assert!(len > 1000, "{plot} is {len} bytes");
+    }
+}
+
+/// Bad arguments are refused with a message, before anything runs.
+#[test]
+fn bench_refuses_a_bad_shape_and_zero_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, value, expect) in [("--shape", "cubic", "shape"), ("--threads", "0", "thread")] {
+        let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+            .args(["bench", "--n", "2", flag, value, "--out"])
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(stderr.contains(expect), "{flag} {value}: {stderr}");
+    }
+}
