@@ -5,3 +5,4 @@
 pub mod cli;
 pub mod service;
 pub mod solver;
+pub mod study;

@@ -1,4 +1,4 @@
-//! `crush serve | run | bench`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | bench | study`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -19,6 +19,8 @@ enum Command {
     Serve(crush::service::ServeArgs),
     /// Run one crush case and write its history and summary.
     Run(crush::cli::RunArgs),
+    /// Accuracy and stability studies: convergence, stability, speed.
+    Study(crush::cli::StudyArgs),
     /// Measure solver speed (particle-steps/s), time per phase and memory per particle.
     Bench(crush::cli::BenchArgs),
     /// One bench measurement (used by `bench`; reads the case on stdin).
@@ -36,6 +38,7 @@ fn main() -> anyhow::Result<()> {
         }
         Command::Run(args) => crush::cli::run(args),
         Command::Bench(args) => crush::cli::bench(args),
+        Command::Study(args) => crush::cli::study(args),
         Command::BenchOne(args) => crush::cli::bench_one(args),
     }
 }

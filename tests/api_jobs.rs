@@ -493,3 +493,88 @@ async fn openapi_describes_exactly_the_routes_the_server_answers() {
         );
     }
 }
+
+/// A sweep over the resolution (and a second field) gets error columns computed within each
+/// group of runs that share the other swept values, and the per-group convergence analysis.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_resolution_sweep_carries_error_and_run_time_columns() {
+    let app = TestApp::start(&["--concurrent-jobs", "2"]).await;
+    let body = json!({
+        "label": "resolution",
+        "base": tiny_case(),
+        "parameters": {
+            "discretization.shape": ["linear", "gimp"],
+            "discretization.particles_through_thickness": [1, 2, 3]
+        }
+    });
+    let r = app
+        .client
+        .post(app.at("/v1/sweeps"))
+        .json(&body)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202);
+    let location = r.headers()["location"].to_str().unwrap().to_string();
+    let sweep: Value = r.json().await.unwrap();
+    for row in sweep["rows"].as_array().unwrap() {
+        app.wait_for(
+            row["job_id"].as_str().unwrap(),
+            &["succeeded"],
+            Duration::from_secs(120),
+        )
+        .await;
+    }
+    let table = get_json(&app.client, &app.at(&location)).await;
+    let columns: Vec<&str> = table["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    for c in [
+        "particle_steps_per_s",
+        "mean_error_vs_finest",
+        "mean_error_vs_richardson",
+        "mean_vs_reference",
+    ] {
+        assert!(columns.contains(&c), "{columns:?}");
+    }
+    let rows = table["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for shape in ["linear", "gimp"] {
+        let group: Vec<&Value> = rows
+            .iter()
+            .filter(|r| r["discretization.shape"] == shape)
+            .collect();
+        let finest = group
+            .iter()
+            .find(|r| r["discretization.particles_through_thickness"] == 3)
+            .unwrap();
+        assert_eq!(finest["mean_error_vs_finest"], 0.0);
+        let fine_mean = finest["mean_load_n"].as_f64().unwrap();
+        for r in &group {
+            let mean = r["mean_load_n"].as_f64().unwrap();
+            let err = r["mean_error_vs_finest"].as_f64().unwrap();
+            assert!((err - (mean / fine_mean - 1.0)).abs() < 1e-12, "{r}");
+            assert!(r["particle_steps_per_s"].as_f64().unwrap() > 0.0);
+        }
+    }
+    let groups = table["convergence"].as_array().unwrap();
+    assert_eq!(groups.len(), 2);
+    // A sweep that does not vary the resolution has no error columns.
+    let plain = json!({"base": tiny_case(), "parameters": {"contact.friction": [0.0]}});
+    let r: Value = app
+        .client
+        .post(app.at("/v1/sweeps"))
+        .json(&plain)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    let columns = r["columns"].as_array().unwrap();
+    assert!(!columns.iter().any(|c| c == "mean_error_vs_finest"));
+    assert!(r.get("convergence").is_none());
+}

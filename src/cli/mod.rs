@@ -1,18 +1,21 @@
 //! Command-line runners around the solver: `crush run CASE.json` runs one case with a progress
 //! bar, prints a summary and writes `history.csv` and `summary.json`; `crush bench` measures
-//! the solver's speed and memory.
+//! the solver's speed and memory; `crush study` runs convergence, stability and plate-speed
+//! studies.
 
 mod bench;
 mod output;
-mod plot;
+pub mod plot;
 mod progress;
 mod report;
 mod run;
+mod study;
 
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
 pub use output::{write_history_csv, write_summary_json, SummaryFile};
 pub use report::format_report;
 pub use run::run;
+pub use study::{study, StudyArgs};
 
 use std::path::PathBuf;
 

@@ -4,6 +4,7 @@
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status, SweepRecord};
 use crate::solver::RunOutput;
+use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use serde::Serialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -161,6 +162,97 @@ pub struct SweepView {
     pub counts: serde_json::Map<String, Value>,
     pub columns: Vec<String>,
     pub rows: Vec<serde_json::Map<String, Value>>,
+    /// When the sweep varies `discretization.particles_through_thickness`: per group of the
+    /// other swept values, the runs with their errors and the Richardson extrapolations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<Vec<GroupAnalysis>>,
+}
+
+/// The swept field that sets the resolution.
+pub const RESOLUTION_FIELD: &str = "discretization.particles_through_thickness";
+
+/// Columns added when the sweep varies the resolution (relative errors, see
+/// `crate::study::convergence`).
+pub const ERROR_COLUMNS: [&str; 5] = [
+    "mean_error_vs_finest",
+    "peak_error_vs_finest",
+    "mean_error_vs_richardson",
+    "peak_error_vs_richardson",
+    "mean_vs_reference",
+];
+
+/// Convergence analysis of a sweep's succeeded jobs, grouped by the other swept values.
+struct Convergence {
+    groups: Vec<GroupAnalysis>,
+}
+
+impl Convergence {
+    fn of(fields: &[String], jobs: &[JobRecord]) -> Convergence {
+        let points: Vec<RunPoint> = jobs
+            .iter()
+            .filter(|j| j.status == Status::Succeeded)
+            .filter_map(|j| {
+                let values = json(j.sweep_values_json.as_deref())?;
+                let summary = json(j.summary_json.as_deref())?;
+                let num = |p: &str| summary.pointer(p).and_then(Value::as_f64);
+                Some(RunPoint {
+                    group: group_key(fields, &values),
+                    n: values.get(RESOLUTION_FIELD)?.as_u64()? as u32,
+                    particles: num("/cost/particles")? as u64,
+                    steps: num("/cost/steps")? as u64,
+                    wall_time_s: num("/cost/wall_time_s")?,
+                    mean_load_n: num("/mean_load_n")?,
+                    peak_load_n: num("/peak_load_n")?,
+                    reference_n: num("/references/primary_n")?,
+                })
+            })
+            .collect();
+        Convergence {
+            groups: analyse(&points),
+        }
+    }
+
+    fn fill(&self, job: &JobRecord, row: &mut serde_json::Map<String, Value>) {
+        for c in ERROR_COLUMNS {
+            row.insert(c.into(), Value::Null);
+        }
+        let Some(values) = json(job.sweep_values_json.as_deref()) else {
+            return;
+        };
+        let fields: Vec<String> = values
+            .as_object()
+            .map(|o| o.keys().cloned().collect())
+            .unwrap_or_default();
+        let key = group_key(&fields, &values);
+        let n = values.get(RESOLUTION_FIELD).and_then(Value::as_u64);
+        let found = self
+            .groups
+            .iter()
+            .filter(|g| g.group == key)
+            .flat_map(|g| &g.rows)
+            .find(|r| Some(r.run.n as u64) == n);
+        if let Some(r) = found {
+            let mut put = |k: &str, v: Option<f64>| {
+                row.insert(k.into(), v.map_or(Value::Null, Value::from));
+            };
+            put("mean_error_vs_finest", Some(r.mean_error_vs_finest));
+            put("peak_error_vs_finest", Some(r.peak_error_vs_finest));
+            put("mean_error_vs_richardson", r.mean_error_vs_richardson);
+            put("peak_error_vs_richardson", r.peak_error_vs_richardson);
+            put("mean_vs_reference", Some(r.mean_vs_reference));
+        }
+    }
+}
+
+/// The other swept values of a job, as one string: the runs that differ only in resolution.
+fn group_key(fields: &[String], values: &Value) -> String {
+    let mut parts: Vec<String> = fields
+        .iter()
+        .filter(|f| *f != RESOLUTION_FIELD)
+        .map(|f| format!("{f}={}", values.get(f).unwrap_or(&Value::Null)))
+        .collect();
+    parts.sort();
+    parts.join(", ")
 }
 
 impl SweepView {
@@ -183,6 +275,14 @@ impl SweepView {
             let n = jobs.iter().filter(|j| j.status == status).count();
             counts.insert(status.as_str().into(), n.into());
         }
+        let convergence = fields
+            .iter()
+            .any(|f| f == RESOLUTION_FIELD)
+            .then(|| Convergence::of(&fields, jobs));
+        columns.push("particle_steps_per_s".into());
+        if convergence.is_some() {
+            columns.extend(ERROR_COLUMNS.iter().map(|s| s.to_string()));
+        }
         let rows = jobs
             .iter()
             .map(|j| {
@@ -197,10 +297,21 @@ impl SweepView {
                 for n in TABLE_NUMBERS {
                     row.insert(n.into(), table_number(&summary, n));
                 }
+                row.insert(
+                    "particle_steps_per_s".into(),
+                    summary
+                        .pointer("/cost/particle_steps_per_s")
+                        .cloned()
+                        .unwrap_or(Value::Null),
+                );
+                if let Some(c) = &convergence {
+                    c.fill(j, &mut row);
+                }
                 row
             })
             .collect();
         SweepView {
+            convergence: convergence.map(|c| c.groups),
             id: s.id,
             label: s.label.clone(),
             created_at: rfc3339(s.created_at),

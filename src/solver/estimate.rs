@@ -3,12 +3,22 @@
 use super::Case;
 use serde::{Deserialize, Serialize};
 
-/// Throughput assumed for the wall-time guess, particle-steps per second per thread: measured
-/// 3.3 M/s on 2 threads for GIMP at n = 4 (linear shapes run about 1.5 times faster), rounded
-/// down.
-pub const ASSUMED_PARTICLE_STEPS_PER_S_PER_THREAD: f64 = 1.5e6;
+use super::case::ShapeKind;
 
-/// Bytes of solver state per particle, grid included (an upper bound used for the estimate).
+/// Throughput assumed for the wall-time guess, particle-steps per second per thread, by shape
+/// function: `crush bench` (docs/performance.md) measured medians of 2.8–3.6 M/s for uGIMP and
+/// 5.4–6.3 M/s for linear shapes on one thread from n = 2 to 10, and 4.6–5.9 M / 9.4–10.7 M
+/// on two; rounded down to allow for a shared machine.
+pub fn assumed_particle_steps_per_s_per_thread(shape: ShapeKind) -> f64 {
+    match shape {
+        ShapeKind::Gimp => 2.5e6,
+        ShapeKind::Linear => 4.5e6,
+    }
+}
+
+/// Bytes of solver state per particle, grid included (an upper bound used for the estimate:
+/// measured peaks are 270–480 B per particle from n = 4 up, and up to 850 B for the smallest
+/// cases, where the grid's padded blocks dominate).
 pub const ASSUMED_BYTES_PER_PARTICLE: u64 = 500;
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -33,7 +43,8 @@ pub fn estimate(case: &Case, threads: u32) -> Estimate {
     let speed = spec.loading.plate_speed_m_s;
     let dt = spec.discretization.cfl * case.cell_mm() / (case.wave_speed_m_s() + speed);
     let steps = (case.crush_distance_mm() / speed / dt).ceil() as u64;
-    let rate = ASSUMED_PARTICLE_STEPS_PER_S_PER_THREAD * threads.max(1) as f64;
+    let rate =
+        assumed_particle_steps_per_s_per_thread(spec.discretization.shape) * threads.max(1) as f64;
     Estimate {
         particles,
         cells,

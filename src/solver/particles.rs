@@ -21,6 +21,9 @@ pub struct Particles {
     pub grad: Vec<Matrix3<Real>>,
     /// Yield stress factor per particle; empty when the scene has no weak particles.
     pub yield_scale: Vec<Real>,
+    /// Each particle's index in the scene as built: the solver reorders particles for speed,
+    /// and outputs use this to report them in their original order.
+    pub id: Vec<u32>,
 }
 
 impl Particles {
@@ -40,6 +43,7 @@ impl Particles {
         self.mass.push(mass);
         self.vol.push(vol);
         self.plastic_strain.push(0.0);
+        self.id.push(self.id.len() as u32);
     }
 
     /// Reorders every particle so that new particle `i` is old particle `order[i]` (`order` a
@@ -52,9 +56,19 @@ impl Particles {
         permute(&mut self.mass, order, seen);
         permute(&mut self.vol, order, seen);
         permute(&mut self.plastic_strain, order, seen);
+        permute(&mut self.id, order, seen);
         if !self.yield_scale.is_empty() {
             permute(&mut self.yield_scale, order, seen);
         }
+    }
+
+    /// `value(i)` of every particle, in the original order (see `id`).
+    pub fn in_original_order<T: Copy + Default>(&self, value: impl Fn(usize) -> T) -> Vec<T> {
+        let mut out = vec![T::default(); self.len()];
+        for (i, &id) in self.id.iter().enumerate() {
+            out[id as usize] = value(i);
+        }
+        out
     }
 
     /// Total momentum, g·mm/ms.
@@ -72,6 +86,7 @@ impl Particles {
                 * size_of::<Real>()
             + self.grad.capacity() * size_of::<Matrix3<Real>>()
             + self.yield_scale.capacity() * size_of::<Real>()
+            + self.id.capacity() * size_of::<u32>()
     }
 }
 

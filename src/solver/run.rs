@@ -92,8 +92,8 @@ pub fn run(
     );
     let snapshot = Snapshot {
         initial_mm: initial.x.iter().map(|x| [x.x, x.y, x.z]).collect(),
-        position_mm: p.x.iter().map(|x| [x.x, x.y, x.z]).collect(),
-        plastic_strain: p.plastic_strain.clone(),
+        position_mm: p.in_original_order(|i| [p.x[i].x, p.x[i].y, p.x[i].z]),
+        plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
     };
     cost.particles = p.len() as u64;
     cost.steps = sim.steps;

@@ -540,12 +540,12 @@ impl Simulation {
             self.energy.plastic += s.plastic;
             signal = signal.max(s.signal);
             if let Some((q, what)) = s.bad {
-                let x = self.scene.particles.x[q];
+                let (x, id) = (self.scene.particles.x[q], self.scene.particles.id[q]);
                 return Err(SolveError::Unstable {
                     step: self.steps + 1,
                     time_ms: self.time + dt,
                     what: format!(
-                        "particle {q} at ({:.4}, {:.4}, {:.4}) mm: {what}",
+                        "particle {id} at ({:.4}, {:.4}, {:.4}) mm: {what}",
                         x.x, x.y, x.z
                     ),
                 });

@@ -1,0 +1,166 @@
+//! `crush study convergence | stability | speed`: sets of runs of one case, varied, and what
+//! they say about accuracy, cost and robustness. Each writes a markdown report, CSV and plots
+//! into its output directory and prints the report.
+
+mod convergence;
+mod speed;
+mod stability;
+
+use crate::solver::summary::summarize;
+use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
+use crate::solver::{RunCost, Summary};
+use anyhow::Context;
+use serde_json::Value;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+pub use convergence::ConvergenceArgs;
+pub use speed::SpeedArgs;
+pub use stability::StabilityArgs;
+
+/// Arguments of `crush study`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct StudyArgs {
+    #[command(subcommand)]
+    pub kind: StudyKind,
+}
+
+#[derive(Debug, Clone, clap::Subcommand)]
+pub enum StudyKind {
+    /// Error of mean and peak load against resolution and run time.
+    Convergence(ConvergenceArgs),
+    /// Stiff and extreme variants of a case: completes cleanly or stops with a diagnosis.
+    Stability(StabilityArgs),
+    /// The case at several plate speeds: rate independence and the quasi-static check.
+    Speed(SpeedArgs),
+}
+
+pub fn study(args: StudyArgs) -> anyhow::Result<()> {
+    match args.kind {
+        StudyKind::Convergence(a) => convergence::run(a),
+        StudyKind::Stability(a) => stability::run(a),
+        StudyKind::Speed(a) => speed::run(a),
+    }
+}
+
+/// A finished run of a study.
+pub struct Finished {
+    pub case: Case,
+    pub history: Vec<HistoryRow>,
+    pub summary: Summary,
+}
+
+/// Why a study run has no result.
+pub enum Failed {
+    /// The case was refused before running (every field named).
+    Rejected(CaseError),
+    /// The run stopped: cancelled, or unstable with its diagnosis.
+    Stopped(SolveError),
+}
+
+/// Reads a case file as JSON (the study varies it as JSON before parsing).
+pub fn read_case(path: &Path) -> anyhow::Result<Value> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))
+}
+
+/// Sets the field at a dotted path (`"tube.length_mm"`), creating objects on the way.
+pub fn set(case: &mut Value, path: &str, value: Value) {
+    let mut at = case;
+    let mut parts = path.split('.').peekable();
+    while let Some(key) = parts.next() {
+        if !at.is_object() {
+            *at = Value::Object(Default::default());
+        }
+        let obj = at.as_object_mut().expect("an object");
+        if parts.peek().is_none() {
+            obj.insert(key.to_string(), value);
+            return;
+        }
+        at = obj
+            .entry(key.to_string())
+            .or_insert_with(|| Value::Object(Default::default()));
+    }
+}
+
+/// One line on stderr per history row fraction decile, so long studies show life.
+struct Quiet<'a> {
+    name: &'a str,
+    next: f64,
+}
+
+impl Observer for Quiet<'_> {
+    fn on_progress(&mut self, p: &Progress) {
+        if p.fraction >= self.next {
+            eprint!("\r  {:<28} {:>3.0} %", self.name, 100.0 * p.fraction);
+            self.next += 0.1;
+        }
+    }
+    fn on_history(&mut self, _row: &HistoryRow) {}
+}
+
+/// Parses and runs a case on a pool of `threads`, with the wall time and throughput filled in.
+pub fn run_case(
+    name: &str,
+    json: &Value,
+    threads: usize,
+) -> anyhow::Result<Result<Finished, Failed>> {
+    let text = serde_json::to_string(json)?;
+    let case = match Case::from_json(&text, &Limits::default()) {
+        Ok(c) => c,
+        Err(e) => return Ok(Err(Failed::Rejected(e))),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("starting the solver's thread pool")?;
+    let mut observer = Quiet { name, next: 0.0 };
+    let start = Instant::now();
+    let result = pool.install(|| solver::run(&case, &mut observer, &AtomicBool::new(false)));
+    let wall = start.elapsed().as_secs_f64();
+    eprintln!("\r  {name:<28} done in {wall:.1} s");
+    Ok(match result {
+        Ok(out) => {
+            let cost = RunCost {
+                threads: threads as u32,
+                wall_time_s: wall,
+                particle_steps_per_s: out.summary.cost.particles as f64
+                    * out.summary.cost.steps as f64
+                    / wall,
+                ..out.summary.cost
+            };
+            let summary = summarize(&case, &out.history, &out.snapshot, cost);
+            Ok(Finished {
+                case,
+                history: out.history,
+                summary,
+            })
+        }
+        Err(e) => Err(Failed::Stopped(e)),
+    })
+}
+
+/// Threads: the flag, or every core.
+pub fn threads(flag: Option<usize>) -> anyhow::Result<usize> {
+    match flag {
+        Some(0) => anyhow::bail!("--threads must be at least 1"),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
+/// Creates the output directory and writes `report.md` there; prints the report.
+pub fn write_report(out: &Path, text: &str) -> anyhow::Result<()> {
+    let path = out.join("report.md");
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    println!("{text}");
+    eprintln!("wrote {}", out.display());
+    Ok(())
+}
+
+/// `x` as a signed percentage with one decimal, or "–".
+pub fn pct(x: Option<f64>) -> String {
+    x.map_or("–".into(), |x| format!("{:+.1} %", 100.0 * x))
+}

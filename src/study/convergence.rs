@@ -1,0 +1,270 @@
+//! Discretization error from a set of runs of one case at several resolutions: the error of
+//! each run's mean and peak load against the finest run and against a Richardson-extrapolated
+//! value, and its difference to the scene's closed-form reference. Pure functions of the runs'
+//! figures; the CLI (`crush study convergence`) and the service's sweep table both use them.
+//!
+//! The mesh size is h = 1/n (n particles through the wall; the cell is a fixed multiple of the
+//! particle spacing, so h ∝ cell size).
+
+use serde::Serialize;
+
+/// One run's figures, as the analysis needs them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunPoint {
+    /// Runs with the same group (e.g. shape function) are compared with each other.
+    pub group: String,
+    /// Particles through the wall.
+    pub n: u32,
+    pub particles: u64,
+    pub steps: u64,
+    pub wall_time_s: f64,
+    pub mean_load_n: f64,
+    pub peak_load_n: f64,
+    /// The scene's primary closed-form load (Alexander's ring for axial, DeRuntz–Hodge's mean
+    /// for lateral crush), N.
+    pub reference_n: f64,
+}
+
+/// A Richardson extrapolation f(h) ≈ f* + C·hᵖ through the three finest runs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Extrapolation {
+    /// f*, the extrapolated value at h → 0.
+    pub value: f64,
+    /// The observed order p.
+    pub order: f64,
+    /// False when the three values do not converge monotonically or p is outside [0.5, 4]:
+    /// the estimate is then printed but not used for errors.
+    pub trustworthy: bool,
+}
+
+/// Orders accepted as plausible for the Richardson estimate.
+pub const TRUSTED_ORDERS: (f64, f64) = (0.5, 4.0);
+
+/// Richardson extrapolation from (h, f) pairs, using the three smallest h. None when there are
+/// fewer than three distinct h or the differences change sign (oscillatory convergence: no
+/// order can be fitted).
+pub fn richardson(points: &[(f64, f64)]) -> Option<Extrapolation> {
+    let mut p: Vec<(f64, f64)> = points.to_vec();
+    p.sort_by(|a, b| b.0.total_cmp(&a.0));
+    p.dedup_by(|a, b| a.0 == b.0);
+    if p.len() < 3 {
+        return None;
+    }
+    let [(h1, f1), (h2, f2), (h3, f3)] = [p[p.len() - 3], p[p.len() - 2], p[p.len() - 1]];
+    let (d12, d23) = (f1 - f2, f2 - f3);
+    if d23 == 0.0 {
+        // Converged to round-off between the two finest.
+        return Some(Extrapolation {
+            value: f3,
+            order: f64::INFINITY,
+            trustworthy: d12 == 0.0,
+        });
+    }
+    if d12 * d23 <= 0.0 {
+        return None;
+    }
+    let ratio = d12 / d23;
+    // (h1ᵖ − h2ᵖ)/(h2ᵖ − h3ᵖ) grows with p; bisect for the p that matches the observed ratio.
+    let g = |q: f64| (h1.powf(q) - h2.powf(q)) / (h2.powf(q) - h3.powf(q)) - ratio;
+    let (mut lo, mut hi) = (0.01, 12.0);
+    if g(lo) * g(hi) > 0.0 {
+        return None;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(lo) * g(mid) <= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let order = 0.5 * (lo + hi);
+    let value = f3 - d23 * h3.powf(order) / (h2.powf(order) - h3.powf(order));
+    Some(Extrapolation {
+        value,
+        order,
+        trustworthy: (TRUSTED_ORDERS.0..=TRUSTED_ORDERS.1).contains(&order),
+    })
+}
+
+/// One run with its errors (relative, signed: (value − target) / target).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConvergenceRow {
+    #[serde(flatten)]
+    pub run: RunPoint,
+    pub mean_error_vs_finest: f64,
+    pub peak_error_vs_finest: f64,
+    /// Against the Richardson value, when it is trustworthy.
+    pub mean_error_vs_richardson: Option<f64>,
+    pub peak_error_vs_richardson: Option<f64>,
+    /// (mean − reference) / reference.
+    pub mean_vs_reference: f64,
+}
+
+/// The runs of one group with their errors and extrapolations.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GroupAnalysis {
+    pub group: String,
+    pub rows: Vec<ConvergenceRow>,
+    pub mean_extrapolation: Option<Extrapolation>,
+    pub peak_extrapolation: Option<Extrapolation>,
+}
+
+impl GroupAnalysis {
+    /// The cheapest run whose mean-load error is within `tolerance` (relative) — against the
+    /// trustworthy Richardson value if there is one, else against the finest run (which then
+    /// qualifies trivially and is skipped).
+    pub fn cheapest_within(&self, tolerance: f64) -> Option<&ConvergenceRow> {
+        let trusted = self.mean_extrapolation.is_some_and(|e| e.trustworthy);
+        let finest = self.rows.iter().map(|r| r.run.n).max()?;
+        self.rows
+            .iter()
+            .filter(|r| {
+                if trusted {
+                    r.mean_error_vs_richardson
+                        .is_some_and(|e| e.abs() <= tolerance)
+                } else {
+                    r.run.n != finest && r.mean_error_vs_finest.abs() <= tolerance
+                }
+            })
+            .min_by(|a, b| a.run.wall_time_s.total_cmp(&b.run.wall_time_s))
+    }
+}
+
+/// Groups the runs (in order of first appearance) and computes every error.
+pub fn analyse(runs: &[RunPoint]) -> Vec<GroupAnalysis> {
+    let mut groups: Vec<String> = Vec::new();
+    for r in runs {
+        if !groups.contains(&r.group) {
+            groups.push(r.group.clone());
+        }
+    }
+    groups
+        .into_iter()
+        .map(|group| {
+            let mut members: Vec<&RunPoint> = runs.iter().filter(|r| r.group == group).collect();
+            members.sort_by_key(|r| r.n);
+            let finest = members.last().expect("a group has a run");
+            let h = |r: &RunPoint| 1.0 / r.n as f64;
+            let mean_ex = richardson(
+                &members
+                    .iter()
+                    .map(|r| (h(r), r.mean_load_n))
+                    .collect::<Vec<_>>(),
+            );
+            let peak_ex = richardson(
+                &members
+                    .iter()
+                    .map(|r| (h(r), r.peak_load_n))
+                    .collect::<Vec<_>>(),
+            );
+            let rel = |v: f64, target: f64| (v - target) / target;
+            let against = |e: Option<Extrapolation>, v: f64| {
+                e.filter(|e| e.trustworthy).map(|e| rel(v, e.value))
+            };
+            let rows = members
+                .iter()
+                .map(|r| ConvergenceRow {
+                    run: (*r).clone(),
+                    mean_error_vs_finest: rel(r.mean_load_n, finest.mean_load_n),
+                    peak_error_vs_finest: rel(r.peak_load_n, finest.peak_load_n),
+                    mean_error_vs_richardson: against(mean_ex, r.mean_load_n),
+                    peak_error_vs_richardson: against(peak_ex, r.peak_load_n),
+                    mean_vs_reference: rel(r.mean_load_n, r.reference_n),
+                })
+                .collect();
+            GroupAnalysis {
+                group,
+                rows,
+                mean_extrapolation: mean_ex,
+                peak_extrapolation: peak_ex,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64, tol: f64) {
+        assert!((a - b).abs() <= tol * b.abs().max(1.0), "{a} vs {b}");
+    }
+
+    /// f = 10 + 3·h² sampled at n = 2, 3, 4, 6: the extrapolation recovers 10 and p = 2 (any
+    /// three points of an exact power law determine it).
+    #[test]
+    fn richardson_recovers_an_exact_power_law() {
+        let pts: Vec<(f64, f64)> = [2.0, 3.0, 4.0, 6.0]
+            .iter()
+            .map(|n| (1.0 / n, 10.0 + 3.0 / (n * n)))
+            .collect();
+        let e = richardson(&pts).unwrap();
+        close(e.value, 10.0, 1e-9);
+        close(e.order, 2.0, 1e-6);
+        assert!(e.trustworthy);
+        // First order from above and below.
+        for c in [5.0, -5.0] {
+            let pts: Vec<(f64, f64)> = [2.0, 4.0, 8.0]
+                .iter()
+                .map(|n| (1.0 / n, 7.0 + c / n))
+                .collect();
+            let e = richardson(&pts).unwrap();
+            close(e.value, 7.0, 1e-9);
+            close(e.order, 1.0, 1e-6);
+        }
+    }
+
+    #[test]
+    fn oscillation_and_too_few_points_give_no_extrapolation() {
+        assert!(richardson(&[(0.5, 1.0), (0.25, 2.0)]).is_none());
+        assert!(richardson(&[(0.5, 1.0), (0.25, 2.0), (0.125, 1.5)]).is_none());
+        // A very high apparent order is reported but not trusted.
+        let e = richardson(&[(0.5, 2.0), (0.25, 1.0), (0.125, 0.999)]).unwrap();
+        assert!(!e.trustworthy, "{e:?}");
+    }
+
+    fn run(group: &str, n: u32, mean: f64, wall: f64) -> RunPoint {
+        RunPoint {
+            group: group.into(),
+            n,
+            particles: 1000 * n as u64,
+            steps: 100,
+            wall_time_s: wall,
+            mean_load_n: mean,
+            peak_load_n: 2.0 * mean,
+            reference_n: 100.0,
+        }
+    }
+
+    #[test]
+    fn errors_are_relative_to_the_finest_and_to_the_extrapolation() {
+        // mean = 100 + 40 h: n 2 → 120, 4 → 110, 8 → 105; extrapolated 100.
+        let runs = vec![
+            run("gimp", 4, 110.0, 4.0),
+            run("gimp", 2, 120.0, 1.0),
+            run("gimp", 8, 105.0, 30.0),
+            run("linear", 2, 90.0, 1.0),
+        ];
+        let a = analyse(&runs);
+        assert_eq!(a.len(), 2);
+        let g = &a[0];
+        assert_eq!(g.group, "gimp");
+        assert_eq!(
+            g.rows.iter().map(|r| r.run.n).collect::<Vec<_>>(),
+            vec![2, 4, 8]
+        );
+        close(g.rows[0].mean_error_vs_finest, 15.0 / 105.0, 1e-12);
+        assert_eq!(g.rows[2].mean_error_vs_finest, 0.0);
+        close(g.mean_extrapolation.unwrap().value, 100.0, 1e-9);
+        close(g.rows[1].mean_error_vs_richardson.unwrap(), 0.10, 1e-9);
+        close(g.rows[2].mean_vs_reference, 0.05, 1e-12);
+        // 6 % against the extrapolation: only n = 8 qualifies; 11 %: n = 4 is cheaper.
+        assert_eq!(g.cheapest_within(0.06).unwrap().run.n, 8);
+        assert_eq!(g.cheapest_within(0.11).unwrap().run.n, 4);
+        // One run alone: its own finest, no extrapolation, nothing cheaper within tolerance.
+        let l = &a[1];
+        assert!(l.mean_extrapolation.is_none());
+        assert!(l.cheapest_within(0.5).is_none());
+    }
+}

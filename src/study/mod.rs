@@ -1,0 +1,4 @@
+//! Accuracy and stability studies over sets of runs: pure analysis of the runs' figures,
+//! shared by the command line (`crush study`) and the job service's sweep tables.
+
+pub mod convergence;
