@@ -2,7 +2,7 @@
 //! error of mean and peak load against the finest run and a Richardson estimate, against run
 //! time; the load curves overlaid.
 
-use super::{pct, read_case, run_case, set, threads, write_report, Failed};
+use super::{pct, plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
 use crate::cli::plot::{self, Series};
 use crate::solver::summary::CollapseMode;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint, TRUSTED_ORDERS};
@@ -64,14 +64,7 @@ pub fn run(args: ConvergenceArgs) -> anyhow::Result<()> {
                         reference_n: s.references.primary_n,
                     });
                     extra.push((shape.clone(), n, s.folds, mode_name(&s.mode)));
-                    curves.push(Series {
-                        name: name.clone(),
-                        points: done
-                            .history
-                            .iter()
-                            .map(|r| (r.displacement_mm, r.load_top_n / 1000.0))
-                            .collect(),
-                    });
+                    curves.push(done.load_curve(name.clone()));
                 }
                 Err(Failed::Rejected(e)) => anyhow::bail!("{name}: the case was rejected: {e}"),
                 Err(Failed::Stopped(e)) => failures.push(format!("{name}: {e}")),
@@ -81,12 +74,7 @@ pub fn run(args: ConvergenceArgs) -> anyhow::Result<()> {
     let groups = analyse(&points);
     write_csv(&args.out.join("convergence.csv"), &groups, &extra)?;
     plot_errors(&args.out, &groups)?;
-    plot::lines(
-        &args.out.join("load_curves"),
-        ("Load against plate travel", "plate travel, mm", "load, kN"),
-        &curves,
-        false,
-    )?;
+    plot_load_curves(&args.out, &curves)?;
     let report = report(&args, &groups, &extra, &failures);
     write_report(&args.out, &report)
 }

@@ -6,6 +6,7 @@ mod convergence;
 mod speed;
 mod stability;
 
+use crate::cli::plot::{self, Series};
 use crate::solver::summary::summarize;
 use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
 use crate::solver::{RunCost, Summary};
@@ -49,6 +50,30 @@ pub struct Finished {
     pub case: Case,
     pub history: Vec<HistoryRow>,
     pub summary: Summary,
+}
+
+impl Finished {
+    /// The load on the moving plate (kN) against its travel (mm), as a plot line.
+    pub fn load_curve(&self, name: String) -> Series {
+        Series {
+            name,
+            points: self
+                .history
+                .iter()
+                .map(|r| (r.displacement_mm, r.load_top_n / 1000.0))
+                .collect(),
+        }
+    }
+}
+
+/// Writes `load_curves.svg` / `.png` in `out`: the runs' load curves overlaid.
+pub fn plot_load_curves(out: &Path, curves: &[Series]) -> anyhow::Result<()> {
+    plot::lines(
+        &out.join("load_curves"),
+        ("Load against plate travel", "plate travel, mm", "load, kN"),
+        curves,
+        false,
+    )
 }
 
 /// Why a study run has no result.

@@ -2,8 +2,7 @@
 //! independent, so the mean load should barely change; the kinetic-to-internal energy ratio
 //! says how close each run is to quasi-static.
 
-use super::{read_case, run_case, set, threads, write_report, Failed};
-use crate::cli::plot::{self, Series};
+use super::{plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -50,25 +49,13 @@ pub fn run(args: SpeedArgs) -> anyhow::Result<()> {
                     energy_balance: s.energy_balance_error,
                     wall_s: s.cost.wall_time_s,
                 });
-                curves.push(Series {
-                    name,
-                    points: done
-                        .history
-                        .iter()
-                        .map(|r| (r.displacement_mm, r.load_top_n / 1000.0))
-                        .collect(),
-                });
+                curves.push(done.load_curve(name));
             }
             Err(Failed::Rejected(e)) => anyhow::bail!("{name}: the case was rejected: {e}"),
             Err(Failed::Stopped(e)) => stopped.push(format!("{name}: {e}")),
         }
     }
-    plot::lines(
-        &args.out.join("load_curves"),
-        ("Load against plate travel", "plate travel, mm", "load, kN"),
-        &curves,
-        false,
-    )?;
+    plot_load_curves(&args.out, &curves)?;
     let mut s = String::new();
     let _ = writeln!(s, "# Plate-speed study: {}\n", args.case.display());
     let _ = writeln!(

@@ -9,16 +9,16 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The base case when none is given: the design page's axial PVC tube, one cell through the
-/// wall (n = 2), 3 mm of crush.
+/// wall (n = 2), 6 mm of crush (the coarse crush whose energy balance tests/crush.rs checks).
 const BASE: &str = r#"{"label": "stability base: PVC t 3.2 d 22.2, axial, n 2",
   "tube": {"thickness_mm": 3.2, "mean_diameter_mm": 22.2, "length_mm": 76.2},
-  "loading": {"mode": "axial", "plate_speed_m_s": 10, "crush_distance_mm": 3},
+  "loading": {"mode": "axial", "plate_speed_m_s": 10, "crush_distance_mm": 6},
   "discretization": {"particles_through_thickness": 2},
   "output": {"history_points": 30}}"#;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct StabilityArgs {
-    /// The base case [default: the axial PVC tube at n = 2, 3 mm of crush].
+    /// The base case [default: the axial PVC tube at n = 2, 6 mm of crush].
     pub case: Option<PathBuf>,
     /// Crush distance of every variant, mm [default: the base case's].
     #[arg(long)]
