@@ -16,10 +16,12 @@
 //! left to the drift test.
 //!
 //! Decision (axial loading), in this order:
-//! 1. **global buckling** when the largest drift of a slice centroid from the straight line
-//!    through the end slices' centroids exceeds [`DRIFT_FRACTION`] · d, whatever the folds did
-//!    (a tube that tipped over and was flattened shows radial displacements larger than its
-//!    drift);
+//! 1. **global buckling** when the largest drift of a slice centroid — from the straight line
+//!    through the end slices' centroids, or from the original axis, whichever is larger —
+//!    exceeds [`DRIFT_FRACTION`] · d, whatever the folds did (a tube that tipped over and was
+//!    flattened shows radial displacements larger than its drift; one that tipped over and lies
+//!    across the plates moves both ends, so only the distance from the axis shows it: the
+//!    t = 1.27, d = 10 example at n = 4 had 4.9 mm from the end line but 30 mm from the axis);
 //! 2. **ring** when the mean harmonic-0 amplitude over the folded slices is at least the largest
 //!    mean amplitude among harmonics 2..8;
 //! 3. otherwise **diamond**, with lobes = the harmonic in 2..8 of largest mean amplitude.
@@ -58,7 +60,8 @@ pub struct ModeDetail {
     pub slice_width_mm: Real,
     /// Amplitude of harmonics 0..=8 of the radial displacement, mean over the folded slices, mm.
     pub harmonic_amplitude_mm: Vec<Real>,
-    /// Largest lateral drift of a slice centroid from the end slices' line, mm.
+    /// Largest lateral drift of a slice centroid, from the end slices' line or from the original
+    /// axis, whichever is larger, mm.
     pub max_drift_mm: Real,
     /// Drift beyond which the column counts as bowed (DRIFT_FRACTION · d), mm.
     pub drift_threshold_mm: Real,
@@ -140,7 +143,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             *a = used.iter().map(|s| s.amplitude(m)).sum::<Real>() / used.len() as Real;
         }
     }
-    detail.max_drift_mm = max_drift(&slices);
+    detail.max_drift_mm = max_drift(&slices).max(max_axis_offset(&slices));
 
     if spec.loading.mode == LoadingMode::Lateral {
         detail.reason = "lateral loading: the tube is flattened across a diameter".into();
@@ -257,6 +260,17 @@ fn max_drift(slices: &[Slice]) -> Real {
         .fold(0.0, Real::max)
 }
 
+/// Largest distance of a slice centroid from the original axis (x = y = 0).
+fn max_axis_offset(slices: &[Slice]) -> Real {
+    slices
+        .iter()
+        .map(|s| {
+            let c = s.centroid();
+            c[0].hypot(c[1])
+        })
+        .fold(0.0, Real::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -366,6 +380,23 @@ mod tests {
         assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
         // The end slices sit 0.5 mm off the axis, so the drift from their line is about 14.5 mm.
         assert!((detail.max_drift_mm - 15.0).abs() < 1.0, "{detail:?}");
+    }
+
+    /// A tube that tipped over and lies across the plates (sections shifted along a straight
+    /// tilted line, the ends 30 mm either side of the axis) has no drift from its end slices'
+    /// line at all; the distance from the original axis shows the collapse. (The t = 1.27,
+    /// d = 10 example at n = 4 did this.)
+    #[test]
+    fn a_tube_that_tipped_over_is_global_buckling() {
+        let case = axial_case();
+        let l = case.spec().tube.length_mm;
+        let snap = tube(&case, |z, th, r| {
+            let lean = 30.0 * (2.0 * z / l - 1.0);
+            [r * th.cos() + lean, r * th.sin(), z]
+        });
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
+        assert!((detail.max_drift_mm - 30.0).abs() < 2.0, "{detail:?}");
     }
 
     #[test]
