@@ -11,7 +11,7 @@
 use super::plot::{self, Series};
 use crate::solver::scene::Scene;
 use crate::solver::step::{PhaseTimes, Simulation};
-use crate::solver::{Case, Limits};
+use crate::solver::{Case, Limits, Real};
 use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -118,8 +118,6 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
     println!("{}", serde_json::to_string(&sample)?);
     Ok(())
 }
-
-type Real = f64;
 
 fn minus(a: &PhaseTimes, b: &PhaseTimes) -> PhaseTimes {
     PhaseTimes {
@@ -299,18 +297,8 @@ fn phase_total(p: &PhaseTimes) -> f64 {
 
 /// Speed-up from the fewest to the most threads, per shape and n.
 fn print_scaling(rows: &[Row]) {
-    let (Some(&lo), Some(&hi)) = (
-        rows.iter()
-            .map(|r| r.threads)
-            .collect::<Vec<_>>()
-            .iter()
-            .min(),
-        rows.iter()
-            .map(|r| r.threads)
-            .collect::<Vec<_>>()
-            .iter()
-            .max(),
-    ) else {
+    let threads = rows.iter().map(|r| r.threads);
+    let (Some(lo), Some(hi)) = (threads.clone().min(), threads.max()) else {
         return;
     };
     if lo == hi {
