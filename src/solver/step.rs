@@ -10,8 +10,9 @@
 //! exactly so with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
 //! Node accumulators (`grid::Node`, lanes of two vectors) by phase: after the first p2g,
-//! `a` = momentum and `b` = force; after the grid update, `a` = new velocity and `b` = velocity change; after the
-//! remap, `a` = remapped velocity.
+//! `a` = momentum and `b` = force; after the grid update, `a` = new velocity and `b` = velocity
+//! change; after the remap, `a` = remapped velocity. Particles are reordered by grid block every
+//! `RESORT_EVERY` steps; `Particles::id` keeps their original order for the outputs.
 
 use super::contact::{self, ContactSums};
 use super::grid::{padded_index, Grid, Node, OWNED};
