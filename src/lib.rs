@@ -3,6 +3,7 @@
 //! server ([`service`]).
 
 pub mod cli;
+pub mod plot;
 pub mod service;
 pub mod solver;
 pub mod study;

@@ -123,6 +123,18 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     let text = csv.text().await.unwrap();
     assert!(text.starts_with("time_ms,displacement_mm,"), "{text}");
     assert_eq!(text.lines().count(), rows.len() + 1);
+    // The load curve as SVG, drawn by the server: an SVG document with a line in it.
+    let plot = app
+        .client
+        .get(app.at(&format!("/v1/jobs/{id}/plot.svg")))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(plot.status(), 200);
+    assert_eq!(plot.headers()["content-type"], "image/svg+xml");
+    let svg = plot.text().await.unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("<polyline"), "no line drawn");
 
     // A client that connects after the end gets the final state at once; one that saw it, 204.
     let url = app.at(&format!("/v1/jobs/{id}/events"));
@@ -206,6 +218,13 @@ async fn a_running_job_is_cancelled_within_a_step() {
         .await
         .unwrap();
     assert_eq!(history.status(), 409);
+    let plot = app
+        .client
+        .get(app.at(&format!("/v1/jobs/{id}/plot.svg")))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(plot.status(), 409);
     // A queued job is cancelled at once.
     let app0 = TestApp::start(&["--concurrent-jobs", "0"]).await;
     let queued = app0.submit(&tiny_case()).await["id"]

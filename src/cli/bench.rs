@@ -8,7 +8,7 @@
 //! medians, and writes `bench.csv` (every run) and `bench.svg` / `bench.png` (time per
 //! particle-step against particle count).
 
-use super::plot::{self, Series};
+use crate::plot::{self, Series};
 use crate::solver::scene::Scene;
 use crate::solver::step::{PhaseTimes, Simulation};
 use crate::solver::{Case, Limits, Real};

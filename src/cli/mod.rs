@@ -5,7 +5,6 @@
 
 mod bench;
 mod output;
-pub mod plot;
 mod progress;
 mod report;
 mod run;

@@ -3,7 +3,7 @@
 //! time; the load curves overlaid.
 
 use super::{pct, plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
-use crate::cli::plot::{self, Series};
+use crate::plot::{self, Series};
 use crate::solver::summary::CollapseMode;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint, TRUSTED_ORDERS};
 use anyhow::Context;

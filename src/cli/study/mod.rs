@@ -6,7 +6,7 @@ mod convergence;
 mod speed;
 mod stability;
 
-use crate::cli::plot::{self, Series};
+use crate::plot::{self, Series};
 use crate::solver::summary::summarize;
 use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
 use crate::solver::{RunCost, Summary};

@@ -1,6 +1,7 @@
 //! `/v1/jobs`: submit, list, read, cancel, and the history as JSON or CSV.
 
 use super::{csv_response, json_text, parse_id, wants_csv, AppState, HttpLimits};
+use crate::plot::{self, Series};
 use crate::service::error::ApiError;
 use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
@@ -215,6 +216,47 @@ pub async fn cancel(
 #[derive(Debug, Deserialize)]
 pub struct FormatParams {
     format: Option<String>,
+}
+
+/// The load on the moving plate against its travel, as SVG (rendered here, for curl users and
+/// pages alike).
+pub async fn plot_svg(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Response, ApiError> {
+    let uuid = parse_id(&id, "job")?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(&id))?;
+    if record.status != Status::Succeeded {
+        return Err(ApiError::Conflict {
+            detail: format!(
+                "job {id} is {}; its plot is drawn from the history stored when it succeeds",
+                record.status.as_str()
+            ),
+        });
+    }
+    let rows = s.store.history(uuid).await?;
+    let column = |name: &str| HistoryRow::COLUMNS.iter().position(|c| *c == name);
+    let (Some(u), Some(p)) = (column("displacement_mm"), column("load_top_n")) else {
+        return Err(ApiError::internal(std::io::Error::other(
+            "the history has no displacement or load column",
+        )));
+    };
+    let title = record.label.clone().unwrap_or_else(|| format!("job {id}"));
+    let svg = tokio::task::spawn_blocking(move || {
+        let series = [Series {
+            name: "load on the moving plate".into(),
+            points: rows.iter().map(|r| (r[u], r[p] / 1000.0)).collect(),
+        }];
+        plot::lines_svg((&title, "plate travel, mm", "load, kN"), &series, false)
+    })
+    .await
+    .map_err(ApiError::internal)?
+    .map_err(|e| ApiError::internal(std::io::Error::other(e.to_string())))?;
+    Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response())
 }
 
 pub async fn history(

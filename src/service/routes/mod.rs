@@ -59,6 +59,7 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("GET", "/v1/jobs/{id}", get(jobs::get)),
         ("POST", "/v1/jobs/{id}/cancel", post(jobs::cancel)),
         ("GET", "/v1/jobs/{id}/history", get(jobs::history)),
+        ("GET", "/v1/jobs/{id}/plot.svg", get(jobs::plot_svg)),
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
         ("GET", "/v1/sweeps/{id}", get(sweeps::get)),

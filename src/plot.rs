@@ -40,6 +40,21 @@ fn font() -> bool {
     })
 }
 
+/// Draws `series` as an SVG document in memory (for the service). See [`lines`].
+pub fn lines_svg(
+    titles: (&str, &str, &str),
+    series: &[Series],
+    log: bool,
+) -> anyhow::Result<String> {
+    let text = font();
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (900, 600)).into_drawing_area();
+        draw(&root, titles, series, log, text)?;
+    }
+    Ok(out)
+}
+
 /// Draws `series` into `<stem>.svg` and `<stem>.png`. `titles` = (title, x label, y label).
 /// Both axes are logarithmic when `log` (all values must then be positive).
 pub fn lines(
