@@ -3,7 +3,7 @@
 use super::{csv_response, json_text, parse_id, wants_csv, AppState, HttpLimits};
 use crate::plot::{self, Series};
 use crate::service::error::ApiError;
-use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
+use crate::service::store::{CancelOutcome, JobRecord, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
 use crate::solver::{case::spec_from_json, Case, HistoryRow, Limits};
 use axum::body::Bytes;
@@ -218,27 +218,40 @@ pub struct FormatParams {
     format: Option<String>,
 }
 
+/// A succeeded job and its stored history rows; 404 for an unknown job, 409 saying `why` for
+/// one that has not succeeded.
+async fn succeeded_history(
+    s: &AppState,
+    id: &str,
+    why: &str,
+) -> Result<(JobRecord, Vec<Vec<f64>>), ApiError> {
+    let uuid = parse_id(id, "job")?;
+    let record = s
+        .store
+        .job(uuid)
+        .await?
+        .ok_or_else(|| ApiError::job_not_found(id))?;
+    if record.status != Status::Succeeded {
+        return Err(ApiError::Conflict {
+            detail: format!("job {id} is {}; {why}", record.status.as_str()),
+        });
+    }
+    let rows = s.store.history(uuid).await?;
+    Ok((record, rows))
+}
+
 /// The load on the moving plate against its travel, as SVG (rendered here, for curl users and
 /// pages alike).
 pub async fn plot_svg(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let uuid = parse_id(&id, "job")?;
-    let record = s
-        .store
-        .job(uuid)
-        .await?
-        .ok_or_else(|| ApiError::job_not_found(&id))?;
-    if record.status != Status::Succeeded {
-        return Err(ApiError::Conflict {
-            detail: format!(
-                "job {id} is {}; its plot is drawn from the history stored when it succeeds",
-                record.status.as_str()
-            ),
-        });
-    }
-    let rows = s.store.history(uuid).await?;
+    let (record, rows) = succeeded_history(
+        &s,
+        &id,
+        "its plot is drawn from the history stored when it succeeds",
+    )
+    .await?;
     let column = |name: &str| HistoryRow::COLUMNS.iter().position(|c| *c == name);
     let (Some(u), Some(p)) = (column("displacement_mm"), column("load_top_n")) else {
         return Err(ApiError::internal(std::io::Error::other(
@@ -265,22 +278,9 @@ pub async fn history(
     Query(q): Query<FormatParams>,
     headers: HeaderMap,
 ) -> Result<Response, ApiError> {
-    let uuid = parse_id(&id, "job")?;
     let csv = wants_csv(&headers, q.format.as_deref())?;
-    let record = s
-        .store
-        .job(uuid)
-        .await?
-        .ok_or_else(|| ApiError::job_not_found(&id))?;
-    if record.status != Status::Succeeded {
-        return Err(ApiError::Conflict {
-            detail: format!(
-                "job {id} is {}; its history is stored when it succeeds",
-                record.status.as_str()
-            ),
-        });
-    }
-    let rows = s.store.history(uuid).await?;
+    let (record, rows) =
+        succeeded_history(&s, &id, "its history is stored when it succeeds").await?;
     if csv {
         let mut w = csv::Writer::from_writer(Vec::new());
         let mut write = || -> Result<Vec<u8>, csv::Error> {
@@ -296,7 +296,7 @@ pub async fn history(
         return Ok(csv_response(text, &format!("{id}-history.csv")));
     }
     Ok(Json(serde_json::json!({
-        "job_id": uuid,
+        "job_id": record.id,
         "columns": HistoryRow::COLUMNS,
         "rows": rows,
     }))
