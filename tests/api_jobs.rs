@@ -344,16 +344,7 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
         "base": tiny_case(),
         "parameters": {"tube.thickness_mm": [1.27, 2.0, 3.2]}
     });
-    let r = app
-        .client
-        .post(app.at("/v1/sweeps"))
-        .json(&body)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 202);
-    let location = r.headers()["location"].to_str().unwrap().to_string();
-    let sweep: Value = r.json().await.unwrap();
+    let (location, sweep) = app.create_sweep(&body).await;
     let rows = sweep["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 3);
     for row in rows {
@@ -526,16 +517,7 @@ async fn a_resolution_sweep_carries_error_and_run_time_columns() {
             "discretization.particles_through_thickness": [1, 2, 3]
         }
     });
-    let r = app
-        .client
-        .post(app.at("/v1/sweeps"))
-        .json(&body)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 202);
-    let location = r.headers()["location"].to_str().unwrap().to_string();
-    let sweep: Value = r.json().await.unwrap();
+    let (location, sweep) = app.create_sweep(&body).await;
     for row in sweep["rows"].as_array().unwrap() {
         app.wait_for(
             row["job_id"].as_str().unwrap(),

@@ -8,7 +8,7 @@ use super::case::ShapeKind;
 /// Throughput assumed for the wall-time guess, particle-steps per second per thread, by shape
 /// function: `crush bench` (docs/performance.md) measured medians of 2.8–3.6 M/s for uGIMP and
 /// 5.4–6.3 M/s for linear shapes on one thread from n = 2 to 10, and 4.6–5.9 M / 9.4–10.7 M
-/// on two; rounded down to allow for a shared machine.
+/// on two from n = 4 to 10; rounded down to allow for a shared machine.
 pub fn assumed_particle_steps_per_s_per_thread(shape: ShapeKind) -> f64 {
     match shape {
         ShapeKind::Gimp => 2.5e6,

@@ -343,16 +343,9 @@ impl Grid {
                 for (k, &nb) in neighbors[b].iter().enumerate() {
                     // The neighbour at offset d holds our nodes as its neighbour at −d.
                     let e = neighbor_offset(k).map(|d| -d);
-                    let (Some(x), Some(y), Some(z)) = (
-                        overlap(e[0], lo, pad),
-                        overlap(e[1], lo, pad),
-                        overlap(e[2], lo, pad),
-                    ) else {
+                    let (true, Some([x, y, z])) = (nb != NONE, overlap3(e, lo, pad)) else {
                         continue;
                     };
-                    if nb == NONE {
-                        continue;
-                    }
                     let src = &padded[nb as usize * len..(nb as usize + 1) * len];
                     for i in 0..x.2 {
                         for j in 0..y.2 {
@@ -381,12 +374,7 @@ impl Grid {
             .enumerate()
             .for_each(|(b, buf)| {
                 for (k, &nb) in neighbors[b].iter().enumerate() {
-                    let e = neighbor_offset(k);
-                    let (Some(x), Some(y), Some(z)) = (
-                        overlap(e[0], lo, pad),
-                        overlap(e[1], lo, pad),
-                        overlap(e[2], lo, pad),
-                    ) else {
+                    let Some([x, y, z]) = overlap3(neighbor_offset(k), lo, pad) else {
                         continue;
                     };
                     for i in 0..x.2 {
@@ -436,6 +424,16 @@ impl Grid {
             + (self.cell_dilation.capacity() + self.cell_pressure.capacity())
                 * size_of::<[Real; 64]>()
     }
+}
+
+/// [`overlap`] on all three axes, for a neighbour offset `e`; None if any axis has none.
+#[inline(always)]
+fn overlap3(e: [i32; 3], lo: i32, pad: usize) -> Option<[(usize, usize, usize); 3]> {
+    Some([
+        overlap(e[0], lo, pad)?,
+        overlap(e[1], lo, pad)?,
+        overlap(e[2], lo, pad)?,
+    ])
 }
 
 /// The offset in {−1, 0, 1}³ of neighbour `k` (see [`neighbor_index`]).

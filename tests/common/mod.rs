@@ -95,6 +95,20 @@ impl TestApp {
         r.json().await.unwrap()
     }
 
+    /// Posts a sweep that must be accepted (202); returns its Location and body.
+    pub async fn create_sweep(&self, body: &Value) -> (String, Value) {
+        let r = self
+            .client
+            .post(self.at("/v1/sweeps"))
+            .json(body)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(r.status(), 202);
+        let location = r.headers()["location"].to_str().unwrap().to_string();
+        (location, r.json().await.unwrap())
+    }
+
     pub async fn job(&self, id: &str) -> Value {
         get_json(&self.client, &self.at(&format!("/v1/jobs/{id}"))).await
     }
