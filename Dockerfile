@@ -6,7 +6,7 @@ RUN cargo build --release --locked --bin crush && strip target/release/crush
 
 FROM debian:bookworm-slim
 RUN apt-get update \
-    && apt-get install -y --no-install-recommends ca-certificates curl \
+    && apt-get install -y --no-install-recommends ca-certificates curl fonts-dejavu-core \
     && rm -rf /var/lib/apt/lists/* \
     && useradd --system --uid 10001 --home-dir /data --create-home crush
 COPY --from=build /src/target/release/crush /usr/local/bin/crush

@@ -1,10 +1,11 @@
 //! The files a run leaves behind: `history.csv` (one row per history point, columns
 //! [`HistoryRow::COLUMNS`]), `summary.json` (the summary plus the mode's diagnostics) and
-//! `particles.csv` (the final particle state).
+//! `particles.csv` and `shape.png` (the final particle state, as numbers and as a picture; only
+//! when the case keeps it, `output.final_state`).
 
 use crate::solver::mode::ModeDetail;
 use crate::solver::Snapshot;
-use crate::solver::{HistoryRow, Summary};
+use crate::solver::{Case, HistoryRow, Summary};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -69,6 +70,29 @@ pub fn write_particles_csv(path: &Path, snapshot: &Snapshot) -> anyhow::Result<(
 pub fn write_summary_json(path: &Path, file: &SummaryFile) -> anyhow::Result<()> {
     let text = serde_json::to_string_pretty(file)?;
     std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
+}
+
+/// The deformed tube, coloured by plastic strain (see [`crate::plot::shape_png`]).
+pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow::Result<()> {
+    let position: Vec<[f32; 3]> = snapshot
+        .position_mm
+        .iter()
+        .map(|x| [x[0] as f32, x[1] as f32, x[2] as f32])
+        .collect();
+    let strain: Vec<f32> = snapshot.plastic_strain.iter().map(|&e| e as f32).collect();
+    let title = case
+        .spec()
+        .label
+        .clone()
+        .unwrap_or_else(|| "final shape".into());
+    let png = crate::plot::shape_png(&crate::plot::TubeShape {
+        title: &title,
+        position_mm: &position,
+        plastic_strain: &strain,
+        spacing_mm: case.spacing_mm(),
+        axis_x: case.spec().loading.mode == crate::solver::case::LoadingMode::Lateral,
+    })?;
+    std::fs::write(path, png).with_context(|| format!("writing {}", path.display()))
 }
 
 #[cfg(test)]

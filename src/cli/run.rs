@@ -5,7 +5,9 @@
 //! [`summarize`], so what the CLI reports depends only on the solver's outputs, not on how the
 //! engine filled in its own summary; the engine's run cost is kept.
 
-use super::output::{write_history_csv, write_particles_csv, write_summary_json, SummaryFile};
+use super::output::{
+    write_history_csv, write_particles_csv, write_shape_png, write_summary_json, SummaryFile,
+};
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::RunArgs;
@@ -98,14 +100,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         mode_detail,
     };
     write_summary_json(&summary_path, &file)?;
-    let particles_path = out_dir.join("particles.csv");
-    write_particles_csv(&particles_path, &output.snapshot)?;
-    eprintln!(
-        "wrote {}, {} and {}",
-        history_path.display(),
-        summary_path.display(),
-        particles_path.display()
-    );
+    let mut written = vec![history_path, summary_path];
+    if case.spec().output.final_state {
+        let particles_path = out_dir.join("particles.csv");
+        write_particles_csv(&particles_path, &output.snapshot)?;
+        let shape_path = out_dir.join("shape.png");
+        write_shape_png(&shape_path, &case, &output.snapshot)?;
+        written.extend([particles_path, shape_path]);
+    }
+    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    eprintln!("wrote {}", names.join(", "));
     Ok(())
 }
 

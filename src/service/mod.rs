@@ -2,8 +2,10 @@
 //! worker pool, the progress hub and SSE. `crush serve` calls [`serve`]; tests call [`start`].
 
 mod error;
+mod form;
 pub mod hub;
 mod routes;
+pub mod state;
 pub mod store;
 mod sweep;
 mod views;

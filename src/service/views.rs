@@ -31,6 +31,10 @@ pub struct JobLinks {
     pub events: String,
     pub history: String,
     pub cancel: String,
+    pub summary: String,
+    pub plot: String,
+    pub shape: String,
+    pub state: String,
 }
 
 /// A job as the API shows it.
@@ -81,6 +85,10 @@ impl JobView {
                 events: format!("{base}/events"),
                 history: format!("{base}/history"),
                 cancel: format!("{base}/cancel"),
+                summary: format!("{base}/summary"),
+                plot: format!("{base}/plot.svg"),
+                shape: format!("{base}/shape.png"),
+                state: format!("{base}/state.vtu"),
                 this: base,
             },
         }
@@ -110,6 +118,17 @@ pub fn non_finite(out: &RunOutput) -> Option<String> {
         if let Some((c, _)) = cols.iter().zip(row.values()).find(|(_, v)| !v.is_finite()) {
             return Some(format!("a non-finite {c} in history row {i}"));
         }
+    }
+    let snap = &out.snapshot;
+    if let Some(i) = snap
+        .position_mm
+        .iter()
+        .position(|x| !x.iter().all(|v| v.is_finite()))
+    {
+        return Some(format!("a non-finite final position of particle {i}"));
+    }
+    if let Some(i) = snap.plastic_strain.iter().position(|e| !e.is_finite()) {
+        return Some(format!("a non-finite final plastic strain of particle {i}"));
     }
     let s = &out.summary;
     let key = [

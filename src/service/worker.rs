@@ -3,7 +3,8 @@
 //! whose worker died; and a bounded, requeueing drain on shutdown.
 
 use super::hub::{Hub, JobObserver};
-use super::store::{Claimed, Status, Store};
+use super::state;
+use super::store::{Claimed, Status, Store, Succeeded};
 use super::views;
 use crate::solver::{self, Case, Limits, Progress, SolveError};
 use std::collections::HashMap;
@@ -191,6 +192,7 @@ impl Workers {
             Ok(case) => case,
             Err(e) => return self.end(&job, Status::Failed, Some(&format!("{e}"))).await,
         };
+        let keep_state = case.spec().output.final_state;
         let pool = match rayon::ThreadPoolBuilder::new()
             .num_threads(self.config.threads_per_job)
             .thread_name(move |i| format!("crush-{}-{i}", &id.simple().to_string()[..8]))
@@ -249,16 +251,16 @@ impl Workers {
                     Some(observer),
                 ),
                 None => {
-                    let stored = self
-                        .store
-                        .finish_succeeded(
-                            id,
-                            job.lease,
-                            &out.history,
-                            &out.summary,
-                            progress_json.as_deref(),
-                        )
-                        .await;
+                    let state = keep_state.then(|| state::encode(&out.snapshot));
+                    let result = Succeeded {
+                        history: &out.history,
+                        summary: &out.summary,
+                        final_state: state
+                            .as_deref()
+                            .map(|bytes| (out.snapshot.position_mm.len(), bytes)),
+                        progress_json: progress_json.as_deref(),
+                    };
+                    let stored = self.store.finish_succeeded(id, job.lease, result).await;
                     match stored {
                         Ok(true) => {
                             let steps = out

@@ -187,12 +187,17 @@ impl Default for Trigger {
 pub struct Output {
     /// Number of history rows, at equal plate-displacement intervals.
     pub history_points: u32,
+    /// Keep the final particle state (positions and plastic strain, 16 bytes a particle) for
+    /// the deformed-tube picture and the VTU download. A sweep that needs only the numbers can
+    /// leave it out.
+    pub final_state: bool,
 }
 
 impl Default for Output {
     fn default() -> Self {
         Output {
             history_points: 500,
+            final_state: true,
         }
     }
 }

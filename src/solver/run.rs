@@ -4,7 +4,7 @@
 
 use super::case::Case;
 use super::observer::{Observer, Progress};
-use super::scene::{tube_lattice, Scene, BOTTOM, TOP};
+use super::scene::{lattice_positions, Scene, BOTTOM, TOP};
 use super::step::Simulation;
 use super::summary::{self, RunCost};
 use super::{HistoryRow, Real, RunOutput, Snapshot, SolveError};
@@ -81,17 +81,8 @@ pub fn run(
         rows.push(row);
     }
     let p = &sim.scene.particles;
-    let t = spec.tube.thickness_mm;
-    let initial = tube_lattice(
-        t,
-        spec.tube.mean_diameter_mm,
-        spec.tube.length_mm,
-        spec.discretization.particles_through_thickness,
-        1.0,
-        spec.loading.mode,
-    );
     let snapshot = Snapshot {
-        initial_mm: initial.x.iter().map(|x| [x.x, x.y, x.z]).collect(),
+        initial_mm: lattice_positions(case),
         position_mm: p.in_original_order(|i| [p.x[i].x, p.x[i].y, p.x[i].z]),
         plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
     };

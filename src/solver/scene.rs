@@ -130,6 +130,21 @@ impl Scene {
     }
 }
 
+/// The tube's particle positions before the crush, mm, in the case's particle order (the order
+/// of [`crate::solver::Snapshot`]).
+pub fn lattice_positions(case: &Case) -> Vec<[Real; 3]> {
+    let spec = case.spec();
+    let lattice = tube_lattice(
+        spec.tube.thickness_mm,
+        spec.tube.mean_diameter_mm,
+        spec.tube.length_mm,
+        spec.discretization.particles_through_thickness,
+        1.0,
+        spec.loading.mode,
+    );
+    lattice.x.iter().map(|x| [x.x, x.y, x.z]).collect()
+}
+
 /// Particles of a tube wall: `n` layers through the thickness at spacing h = t/n; each layer at
 /// mid-radius r holds round(2πr/h) particles around and round(l/h) along. Each particle's volume
 /// is its exact annular sector, so the volumes add up to π d t l.

@@ -1,11 +1,10 @@
-//! `/v1/jobs`: submit, list, read, cancel, and the history as JSON or CSV.
+//! `/v1/jobs`: submit, list, read and cancel (what a succeeded job leaves is in `results`).
 
-use super::{csv_response, json_text, parse_id, wants_csv, AppState, HttpLimits};
-use crate::plot::{self, Series};
+use super::{json_text, parse_id, AppState, HttpLimits};
 use crate::service::error::ApiError;
-use crate::service::store::{CancelOutcome, JobRecord, ListFilter, NewJob, Status, Submitted};
+use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
-use crate::solver::{case::spec_from_json, Case, HistoryRow, Limits};
+use crate::solver::{case::spec_from_json, Case, Limits};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Path, Query, State};
@@ -211,94 +210,4 @@ pub async fn cancel(
             Ok((StatusCode::ACCEPTED, Json(JobView::new(&r, false))).into_response())
         }
     }
-}
-
-#[derive(Debug, Deserialize)]
-pub struct FormatParams {
-    format: Option<String>,
-}
-
-/// A succeeded job and its stored history rows; 404 for an unknown job, 409 saying `why` for
-/// one that has not succeeded.
-async fn succeeded_history(
-    s: &AppState,
-    id: &str,
-    why: &str,
-) -> Result<(JobRecord, Vec<Vec<f64>>), ApiError> {
-    let uuid = parse_id(id, "job")?;
-    let record = s
-        .store
-        .job(uuid)
-        .await?
-        .ok_or_else(|| ApiError::job_not_found(id))?;
-    if record.status != Status::Succeeded {
-        return Err(ApiError::Conflict {
-            detail: format!("job {id} is {}; {why}", record.status.as_str()),
-        });
-    }
-    let rows = s.store.history(uuid).await?;
-    Ok((record, rows))
-}
-
-/// The load on the moving plate against its travel, as SVG (rendered here, for curl users and
-/// pages alike).
-pub async fn plot_svg(
-    State(s): State<AppState>,
-    Path(id): Path<String>,
-) -> Result<Response, ApiError> {
-    let (record, rows) = succeeded_history(
-        &s,
-        &id,
-        "its plot is drawn from the history stored when it succeeds",
-    )
-    .await?;
-    let column = |name: &str| HistoryRow::COLUMNS.iter().position(|c| *c == name);
-    let (Some(u), Some(p)) = (column("displacement_mm"), column("load_top_n")) else {
-        return Err(ApiError::internal(std::io::Error::other(
-            "the history has no displacement or load column",
-        )));
-    };
-    let title = record.label.clone().unwrap_or_else(|| format!("job {id}"));
-    let svg = tokio::task::spawn_blocking(move || {
-        let series = [Series {
-            name: "load on the moving plate".into(),
-            points: rows.iter().map(|r| (r[u], r[p] / 1000.0)).collect(),
-        }];
-        plot::lines_svg((&title, "plate travel, mm", "load, kN"), &series, false)
-    })
-    .await
-    .map_err(ApiError::internal)?
-    .map_err(|e| ApiError::internal(std::io::Error::other(e.to_string())))?;
-    Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response())
-}
-
-pub async fn history(
-    State(s): State<AppState>,
-    Path(id): Path<String>,
-    Query(q): Query<FormatParams>,
-    headers: HeaderMap,
-) -> Result<Response, ApiError> {
-    let csv = wants_csv(&headers, q.format.as_deref())?;
-    let (record, rows) =
-        succeeded_history(&s, &id, "its history is stored when it succeeds").await?;
-    if csv {
-        let mut w = csv::Writer::from_writer(Vec::new());
-        let mut write = || -> Result<Vec<u8>, csv::Error> {
-            w.write_record(HistoryRow::COLUMNS)?;
-            for row in &rows {
-                w.write_record(row.iter().map(|v| v.to_string()))?;
-            }
-            w.flush()?;
-            Ok(w.get_ref().clone())
-        };
-        let bytes = write().map_err(ApiError::internal)?;
-        let text = String::from_utf8(bytes).map_err(ApiError::internal)?;
-        return Ok(csv_response(text, &format!("{id}-history.csv")));
-    }
-    Ok(Json(serde_json::json!({
-        "job_id": record.id,
-        "columns": HistoryRow::COLUMNS,
-        "rows": rows,
-    }))
-    .into_response())
 }

@@ -4,6 +4,8 @@
 mod events;
 mod jobs;
 mod misc;
+mod page;
+mod results;
 mod sweeps;
 
 use super::error::{ApiError, PROBLEM_JSON};
@@ -51,6 +53,9 @@ pub struct AppState {
 /// The routes: method, path, handler.
 fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
     vec![
+        ("GET", "/", get(page::index)),
+        ("GET", "/assets/{name}", get(page::asset)),
+        ("GET", "/v1/case/fields", get(page::case_fields)),
         ("GET", "/healthz", get(misc::healthz)),
         ("GET", "/metrics", get(misc::metrics)),
         ("POST", "/v1/estimate", post(misc::estimate)),
@@ -58,8 +63,11 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("GET", "/v1/jobs", get(jobs::list)),
         ("GET", "/v1/jobs/{id}", get(jobs::get)),
         ("POST", "/v1/jobs/{id}/cancel", post(jobs::cancel)),
-        ("GET", "/v1/jobs/{id}/history", get(jobs::history)),
-        ("GET", "/v1/jobs/{id}/plot.svg", get(jobs::plot_svg)),
+        ("GET", "/v1/jobs/{id}/history", get(results::history)),
+        ("GET", "/v1/jobs/{id}/summary", get(results::summary)),
+        ("GET", "/v1/jobs/{id}/plot.svg", get(results::plot_svg)),
+        ("GET", "/v1/jobs/{id}/shape.png", get(results::shape_png)),
+        ("GET", "/v1/jobs/{id}/state.vtu", get(results::state_vtu)),
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
         ("GET", "/v1/sweeps/{id}", get(sweeps::get)),

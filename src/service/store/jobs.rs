@@ -184,6 +184,18 @@ impl Store {
     }
 }
 
+impl Store {
+    /// The stored final particle state of a job: (particles, bytes); `None` when none was kept.
+    pub async fn final_state(&self, id: Uuid) -> Result<Option<(usize, Vec<u8>)>> {
+        let row: Option<(i64, Vec<u8>)> =
+            sqlx::query_as("SELECT particles, data FROM final_states WHERE job_id = ?")
+                .bind(id.to_string())
+                .fetch_optional(&self.pool)
+                .await?;
+        Ok(row.map(|(n, data)| (n.max(0) as usize, data)))
+    }
+}
+
 /// Jobs waiting to run.
 pub(super) async fn queue_depth(tx: &mut Transaction<'static, Sqlite>) -> Result<i64> {
     let (n,): (i64,) = sqlx::query_as("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")

@@ -9,7 +9,7 @@ mod worker;
 
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use sweeps::{NewSweep, SweepRecord, SweepSubmitted};
-pub use worker::{Claimed, Reaped};
+pub use worker::{Claimed, Reaped, Succeeded};
 
 use serde::{Deserialize, Serialize};
 use sqlx::sqlite::{

@@ -27,6 +27,17 @@ pub struct Reaped {
     pub cancelled: Vec<Uuid>,
 }
 
+/// What a succeeded run leaves to store.
+#[derive(Debug, Clone, Copy)]
+pub struct Succeeded<'a> {
+    pub history: &'a [HistoryRow],
+    pub summary: &'a Summary,
+    /// (particles, stored bytes) of the final state, when the case keeps it.
+    pub final_state: Option<(usize, &'a [u8])>,
+    /// The last progress report, as JSON.
+    pub progress_json: Option<&'a str>,
+}
+
 /// History rows per INSERT statement (11 bound values each).
 const HISTORY_CHUNK: usize = 500;
 
@@ -85,16 +96,20 @@ impl Store {
         Ok(row.map(|(c,)| c != 0))
     }
 
-    /// Stores a successful run: history, summary and state together. False when the lease
-    /// was lost (nothing is written).
+    /// Stores a successful run: history, summary, final particle state (when kept) and job
+    /// state together. False when the lease was lost (nothing is written).
     pub async fn finish_succeeded(
         &self,
         id: Uuid,
         lease: Uuid,
-        history: &[HistoryRow],
-        summary: &Summary,
-        progress_json: Option<&str>,
+        result: Succeeded<'_>,
     ) -> Result<bool> {
+        let Succeeded {
+            history,
+            summary,
+            final_state,
+            progress_json,
+        } = result;
         let summary_value = serde_json::to_value(summary)
             .map_err(|e| super::StoreError::Corrupt(format!("summary: {e}")))?;
         let num = |ptr: &str| {
@@ -121,6 +136,18 @@ impl Store {
             .bind(&job)
             .execute(&mut *tx)
             .await?;
+        sqlx::query("DELETE FROM final_states WHERE job_id = ?")
+            .bind(&job)
+            .execute(&mut *tx)
+            .await?;
+        if let Some((particles, data)) = final_state {
+            sqlx::query("INSERT INTO final_states (job_id, particles, data) VALUES (?, ?, ?)")
+                .bind(&job)
+                .bind(particles as i64)
+                .bind(data)
+                .execute(&mut *tx)
+                .await?;
+        }
         for (chunk_no, chunk) in history.chunks(HISTORY_CHUNK).enumerate() {
             let mut q = sqlx::QueryBuilder::<Sqlite>::new(format!(
                 "INSERT INTO history (job_id, row, {}) ",

@@ -2,6 +2,10 @@
 //! TrueType fonts is registered once; without one the plots are drawn without text and a
 //! warning says so.
 
+mod shape;
+
+pub use shape::{shape_png, strain_scale, TubeShape};
+
 use anyhow::Context;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -25,7 +29,7 @@ const FONT_PATHS: &[&str] = &[
 ];
 
 /// Registers a system font as "sans-serif" once; false if none was found.
-fn font() -> bool {
+pub(crate) fn font() -> bool {
     static FOUND: OnceLock<bool> = OnceLock::new();
     *FOUND.get_or_init(|| {
         for path in FONT_PATHS {

@@ -1,0 +1,326 @@
+//! The deformed tube as a PNG: the final particle positions, each a square of 1.3 particle
+//! spacings (which closes the gaps of stretched regions), coloured by equivalent plastic strain
+//! (viridis, 0 to the 99th percentile), seen from three directions: the side, an oblique view from above, and a section through the axis that
+//! shows the wall's fold profile (axial) or the flattened ring (lateral). Orthographic
+//! projection, far particles drawn first. Lengths in mm.
+
+use super::font;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::colors::colormaps::ViridisRGB;
+
+/// What to draw.
+#[derive(Debug, Clone, Copy)]
+pub struct TubeShape<'a> {
+    pub title: &'a str,
+    /// Final positions, mm (plates are normal to z).
+    pub position_mm: &'a [[f32; 3]],
+    pub plastic_strain: &'a [f32],
+    /// Particle spacing h, mm: the side of each drawn square.
+    pub spacing_mm: f64,
+    /// The tube axis is x (lateral loading) rather than z (axial).
+    pub axis_x: bool,
+}
+
+const SIZE: (u32, u32) = (1280, 520);
+const TITLE_PX: i32 = 44;
+const LABEL_PX: i32 = 30;
+const BAR_PX: i32 = 110;
+
+/// A direction to look from: screen right and up, and an optional slab (normal, half width in
+/// spacings) that keeps only the particles near the centre plane.
+struct View {
+    name: &'static str,
+    right: [f64; 3],
+    up: [f64; 3],
+    slab: Option<([f64; 3], f64)>,
+}
+
+fn views(axis_x: bool) -> [View; 3] {
+    let (az, el) = (35f64.to_radians(), 25f64.to_radians());
+    // Looking along f = (sin az cos el, cos az cos el, −sin el): right = f × z, up = right × f.
+    let f = [az.sin() * el.cos(), az.cos() * el.cos(), -el.sin()];
+    let right = normalize(cross(f, [0.0, 0.0, 1.0]));
+    let up = cross(right, f);
+    let section = if axis_x {
+        View {
+            name: "section across the axis (x = middle)",
+            right: [0.0, -1.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            slab: Some(([1.0, 0.0, 0.0], 1.5)),
+        }
+    } else {
+        View {
+            name: "section through the axis (y = 0)",
+            right: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            slab: Some(([0.0, 1.0, 0.0], 1.5)),
+        }
+    };
+    [
+        View {
+            name: "side",
+            right: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            slab: None,
+        },
+        View {
+            name: "oblique, from above",
+            right,
+            up,
+            slab: None,
+        },
+        section,
+    ]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let n = dot(a, a).sqrt();
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+/// The top of the colour scale: the 99th percentile of the plastic strain (a few particles at
+/// the plate edges would otherwise wash out the folds), at least 1e-6.
+pub fn strain_scale(strain: &[f32]) -> f64 {
+    let mut finite: Vec<f32> = strain.iter().copied().filter(|e| e.is_finite()).collect();
+    if finite.is_empty() {
+        return 1e-6;
+    }
+    let k = ((finite.len() - 1) as f64 * 0.99).round() as usize;
+    let (_, top, _) = finite.select_nth_unstable_by(k, f32::total_cmp);
+    (*top as f64).max(1e-6)
+}
+
+/// The picture as PNG bytes.
+pub fn shape_png(shape: &TubeShape) -> anyhow::Result<Vec<u8>> {
+    anyhow::ensure!(
+        shape.position_mm.len() == shape.plastic_strain.len(),
+        "{} positions but {} strains",
+        shape.position_mm.len(),
+        shape.plastic_strain.len()
+    );
+    let (w, h) = SIZE;
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
+        draw(&root, shape).map_err(|e| anyhow::anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    let mut png = Vec::new();
+    use image::ImageEncoder;
+    image::codecs::png::PngEncoder::new(&mut png).write_image(
+        &buf,
+        w,
+        h,
+        image::ColorType::Rgb8,
+    )?;
+    Ok(png)
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+type DrawResult =
+    Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
+
+fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
+    let text = font();
+    let (w, h) = SIZE;
+    let top = scale_top(shape);
+    if text {
+        root.draw(&Text::new(
+            shape.title.to_string(),
+            (16, 12),
+            ("sans-serif", 22).into_font(),
+        ))?;
+    }
+    let panels_w = w as i32 - BAR_PX;
+    let views = views(shape.axis_x);
+    let panel_w = panels_w / views.len() as i32;
+    for (k, view) in views.iter().enumerate() {
+        let x0 = k as i32 * panel_w;
+        let area = root
+            .clone()
+            .shrink((x0, TITLE_PX), (panel_w as u32, h - TITLE_PX as u32));
+        draw_view(&area, shape, view, top, text)?;
+    }
+    let bar = root
+        .clone()
+        .shrink((panels_w, TITLE_PX), (BAR_PX as u32, h - TITLE_PX as u32));
+    colour_bar(&bar, top, text)
+}
+
+fn scale_top(shape: &TubeShape) -> f64 {
+    strain_scale(shape.plastic_strain)
+}
+
+fn draw_view(area: &Area, shape: &TubeShape, view: &View, top: f64, text: bool) -> DrawResult {
+    let (pw, ph) = area.dim_in_pixel();
+    let toward = cross(view.right, view.up);
+    let centre = centroid(shape.position_mm);
+    let spacing = shape.spacing_mm;
+    // (screen x, screen y, depth towards the viewer, strain) of every particle shown.
+    let mut points: Vec<(f64, f64, f64, f32)> = shape
+        .position_mm
+        .iter()
+        .zip(shape.plastic_strain)
+        .filter_map(|(x, &e)| {
+            let x = [x[0] as f64, x[1] as f64, x[2] as f64];
+            if let Some((normal, half)) = view.slab {
+                let off = [x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]];
+                if dot(off, normal).abs() > half * spacing {
+                    return None;
+                }
+            }
+            Some((dot(x, view.right), dot(x, view.up), dot(x, toward), e))
+        })
+        .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+        .collect();
+    if text {
+        area.draw(&Text::new(
+            view.name.to_string(),
+            (10, ph as i32 - LABEL_PX + 6),
+            ("sans-serif", 16).into_font(),
+        ))?;
+    }
+    if points.is_empty() {
+        return Ok(());
+    }
+    points.sort_unstable_by(|a, b| a.2.total_cmp(&b.2));
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in &points {
+        x0 = x0.min(p.0);
+        x1 = x1.max(p.0);
+        y0 = y0.min(p.1);
+        y1 = y1.max(p.1);
+    }
+    let margin = 16.0;
+    let (room_w, room_h) = (
+        pw as f64 - 2.0 * margin,
+        ph as f64 - LABEL_PX as f64 - 2.0 * margin,
+    );
+    let scale = (room_w / (x1 - x0 + spacing)).min(room_h / (y1 - y0 + spacing));
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let half = (0.65 * spacing * scale).max(0.6);
+    let (ox, oy) = (pw as f64 / 2.0, margin + room_h / 2.0);
+    for (sx, sy, _, e) in points {
+        let px = ox + (sx - cx) * scale;
+        let py = oy - (sy - cy) * scale;
+        let colour = ViridisRGB.get_color_normalized(e.max(0.0).min(top as f32), 0.0, top as f32);
+        let a = ((px - half).round() as i32, (py - half).round() as i32);
+        let b = ((px + half).round() as i32, (py + half).round() as i32);
+        area.draw(&Rectangle::new([a, b], colour.filled()))?;
+    }
+    Ok(())
+}
+
+fn centroid(x: &[[f32; 3]]) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for p in x {
+        for k in 0..3 {
+            c[k] += p[k] as f64;
+        }
+    }
+    let n = x.len().max(1) as f64;
+    [c[0] / n, c[1] / n, c[2] / n]
+}
+
+fn colour_bar(area: &Area, top: f64, text: bool) -> DrawResult {
+    let (_, ph) = area.dim_in_pixel();
+    let (bx, by0, by1) = (14, 30, ph as i32 - LABEL_PX - 20);
+    let steps = (by1 - by0).max(1);
+    for k in 0..steps {
+        let f = 1.0 - k as f64 / steps as f64;
+        let colour = ViridisRGB.get_color(f as f32);
+        area.draw(&Rectangle::new(
+            [(bx, by0 + k), (bx + 22, by0 + k + 1)],
+            colour.filled(),
+        ))?;
+    }
+    if text {
+        let font = ("sans-serif", 14).into_font();
+        area.draw(&Text::new("plastic strain", (4, 8), font.clone()))?;
+        for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
+            let y = by1 - (f * steps as f64) as i32 - 7;
+            let label = if f == 1.0 {
+                format!("≥{:.3}", top)
+            } else {
+                format!("{:.3}", f * top)
+            };
+            area.draw(&Text::new(label, (bx + 28, y), font.clone()))?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A strained band at mid-height of an otherwise unstrained tube.
+    fn tube() -> (Vec<[f32; 3]>, Vec<f32>) {
+        let mut x = Vec::new();
+        let mut e = Vec::new();
+        for k in 0..40 {
+            for j in 0..60 {
+                let a = j as f32 / 60.0 * std::f32::consts::TAU;
+                x.push([10.0 * a.cos(), 10.0 * a.sin(), k as f32]);
+                e.push(if (18..22).contains(&k) { 0.5 } else { 0.0 });
+            }
+        }
+        (x, e)
+    }
+
+    #[test]
+    fn the_picture_is_a_png_with_the_strained_band_in_the_hot_colour() {
+        let (x, e) = tube();
+        let png = shape_png(&TubeShape {
+            title: "test",
+            position_mm: &x,
+            plastic_strain: &e,
+            spacing_mm: 1.0,
+            axis_x: false,
+        })
+        .unwrap();
+        let img = image::load_from_memory(&png).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), SIZE);
+        let hot = ViridisRGB.get_color(1.0);
+        let cold = ViridisRGB.get_color(0.0);
+        let count = |c: RGBColor| img.pixels().filter(|p| p.0 == [c.0, c.1, c.2]).count();
+        // Both ends of the scale are drawn, and the band (4 of 40 layers) is a minority.
+        let (h, c) = (count(hot), count(cold));
+        assert!(h > 500 && c > 5 * h, "hot {h} px, cold {c} px");
+    }
+
+    #[test]
+    fn the_scale_ignores_the_top_percent() {
+        let mut e = vec![0.1f32; 1000];
+        e[0] = 50.0;
+        assert!((strain_scale(&e) - 0.1).abs() < 1e-6);
+        assert_eq!(strain_scale(&[]), 1e-6);
+        assert_eq!(strain_scale(&[f32::NAN]), 1e-6);
+    }
+
+    #[test]
+    fn mismatched_arrays_are_refused() {
+        let (x, _) = tube();
+        assert!(shape_png(&TubeShape {
+            title: "",
+            position_mm: &x,
+            plastic_strain: &[0.0],
+            spacing_mm: 1.0,
+            axis_x: false,
+        })
+        .is_err());
+    }
+}

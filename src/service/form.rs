@@ -1,0 +1,257 @@
+//! The crush-case form as data (`GET /v1/case/fields`): every field of a case with its label,
+//! unit, default (read off [`CaseSpec::default`], so it cannot drift) and the bounds that
+//! `Case::parse` enforces on it alone. The web page builds its form from this and checks the
+//! bounds in the browser; the checks that tie fields together (wall thinner than half the
+//! diameter, crush shorter than the tube, plate slower than half the wave speed, the particle
+//! limit) it leaves to the server, which it asks as the user types (`POST /v1/estimate`).
+//! A test below holds every bound here to what `Case::parse` accepts and refuses.
+
+use crate::solver::CaseSpec;
+use serde::Serialize;
+use serde_json::Value;
+
+/// What kind of input a field takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    Number,
+    Integer,
+    Choice,
+    Boolean,
+    Text,
+}
+
+/// One field of the form.
+#[derive(Debug, Clone, Serialize)]
+pub struct Field {
+    /// Dotted path in the case JSON.
+    pub field: &'static str,
+    pub label: &'static str,
+    /// Unit, empty when the field has none.
+    pub unit: &'static str,
+    pub kind: Kind,
+    pub default: Value,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
+    /// The bound itself is refused (`> min` rather than `>= min`).
+    pub min_exclusive: bool,
+    pub max_exclusive: bool,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub choices: &'static [&'static str],
+    /// May be left empty (the server then picks, as `help` says).
+    pub optional: bool,
+    pub help: &'static str,
+}
+
+struct Spec {
+    field: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    kind: Kind,
+    /// (min, exclusive)
+    min: Option<(f64, bool)>,
+    max: Option<(f64, bool)>,
+    choices: &'static [&'static str],
+    help: &'static str,
+}
+
+const fn num(
+    field: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    min: Option<(f64, bool)>,
+    max: Option<(f64, bool)>,
+    help: &'static str,
+) -> Spec {
+    Spec {
+        field,
+        label,
+        unit,
+        kind: Kind::Number,
+        min,
+        max,
+        choices: &[],
+        help,
+    }
+}
+
+const fn other(
+    field: &'static str,
+    label: &'static str,
+    kind: Kind,
+    choices: &'static [&'static str],
+    help: &'static str,
+) -> Spec {
+    Spec {
+        field,
+        label,
+        unit: "",
+        kind,
+        min: None,
+        max: None,
+        choices,
+        help,
+    }
+}
+
+const POSITIVE: Option<(f64, bool)> = Some((0.0, true));
+
+const SPECS: &[Spec] = &[
+    other("label", "Label", Kind::Text, &[], "Free text, at most 200 characters; kept with the job."),
+    num("tube.thickness_mm", "Wall thickness t", "mm", POSITIVE, None, "Less than half the mean diameter."),
+    num("tube.mean_diameter_mm", "Mean diameter d", "mm", POSITIVE, None, "Measured at the wall's mid-surface."),
+    num("tube.length_mm", "Length l", "mm", POSITIVE, None, "Along the tube axis."),
+    other("material.model", "Material model", Kind::Choice, &["j2", "elastic"], "j2: elastic–perfectly plastic von Mises; elastic never yields."),
+    num("material.youngs_modulus_mpa", "Young's modulus E", "MPa", POSITIVE, None, ""),
+    num("material.poisson_ratio", "Poisson's ratio ν", "", Some((-0.99, false)), Some((0.4999, false)), ""),
+    num("material.yield_stress_mpa", "Yield stress σy", "MPa", POSITIVE, None, ""),
+    num("material.density_kg_m3", "Density ρ", "kg/m³", POSITIVE, None, ""),
+    other("loading.mode", "Loading", Kind::Choice, &["axial", "lateral"], "Axial: plates normal to the axis. Lateral: the tube lies between the plates."),
+    num("loading.plate_speed_m_s", "Plate speed", "m/s", POSITIVE, None, "Below half the material's wave speed."),
+    num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral)."),
+    num("contact.friction", "Plate friction μ", "", Some((0.0, false)), Some((2.0, false)), "Coulomb friction between tube and plates."),
+    Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((16.0, false)), "Spacing h = t / n. Cost grows about as n⁴.") },
+    num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),
+    num("discretization.cfl", "CFL number α", "", POSITIVE, Some((1.0, false)), "Δt = α · cell / max(c + |v|)."),
+    other("discretization.shape", "Shape functions", Kind::Choice, &["gimp", "linear"], "gimp: uniform GIMP; linear: trilinear hats."),
+    other("discretization.volumetric_averaging", "Volumetric averaging", Kind::Boolean, &[], "One volumetric strain rate per cell, against locking."),
+    num("trigger.weak_fraction", "Weak-particle fraction", "", Some((0.0, false)), Some((0.1, false)), "0 disables the trigger."),
+    num("trigger.strength_ratio", "Weak-particle strength ratio", "", POSITIVE, Some((1.0, false)), "Yield stress of a weak particle over σy."),
+    Spec { kind: Kind::Integer, ..num("trigger.seed", "Trigger seed", "", Some((0.0, false)), None, "Seed of the random choice of weak particles.") },
+    Spec { kind: Kind::Integer, ..num("output.history_points", "History points", "", Some((10.0, false)), Some((100000.0, false)), "Rows of the load history, at equal plate travel.") },
+    other("output.final_state", "Keep the final state", Kind::Boolean, &[], "Needed for the deformed-tube picture and the VTU file; 16 bytes a particle."),
+];
+
+/// Every field of the form, in display order.
+pub fn fields() -> Vec<Field> {
+    let defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    SPECS
+        .iter()
+        .map(|s| {
+            let pointer = format!("/{}", s.field.replace('.', "/"));
+            Field {
+                field: s.field,
+                label: s.label,
+                unit: s.unit,
+                kind: s.kind,
+                default: defaults.pointer(&pointer).cloned().unwrap_or(Value::Null),
+                min: s.min.map(|m| m.0),
+                max: s.max.map(|m| m.0),
+                min_exclusive: s.min.is_some_and(|m| m.1),
+                max_exclusive: s.max.is_some_and(|m| m.1),
+                choices: s.choices,
+                optional: matches!(s.field, "label" | "loading.crush_distance_mm"),
+                help: s.help,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::{Case, CaseError, Limits};
+
+    /// The default case with `field` set to `value` (a small tube, so that the particle limit
+    /// never speaks).
+    fn case_with(field: &str, value: Value) -> Result<Case, CaseError> {
+        let mut spec = serde_json::to_value(CaseSpec::default()).unwrap();
+        let mut at = &mut spec;
+        let parts: Vec<&str> = field.split('.').collect();
+        for p in &parts[..parts.len() - 1] {
+            at = at.get_mut(*p).unwrap();
+        }
+        at[parts[parts.len() - 1]] = value;
+        Case::parse(
+            serde_json::from_value(spec).map_err(|e| CaseError::Malformed {
+                field: None,
+                message: e.to_string(),
+            })?,
+            &Limits::default(),
+        )
+    }
+
+    fn refused_for(field: &str, value: f64, integer: bool) -> bool {
+        let v = if integer {
+            Value::from(value as i64)
+        } else {
+            Value::from(value)
+        };
+        match case_with(field, v) {
+            Ok(_) => false,
+            Err(CaseError::Invalid(errors)) => errors.iter().any(|e| e.field == field),
+            Err(CaseError::Malformed { .. }) => true,
+        }
+    }
+
+    #[test]
+    fn every_default_is_the_case_default_and_is_accepted() {
+        let fields = fields();
+        assert_eq!(fields.len(), SPECS.len());
+        for f in &fields {
+            if f.optional {
+                continue;
+            }
+            assert!(!f.default.is_null(), "{} has no default", f.field);
+        }
+        assert!(Case::parse(CaseSpec::default(), &Limits::default()).is_ok());
+    }
+
+    #[test]
+    fn every_bound_is_the_one_the_server_enforces() {
+        for f in fields() {
+            let integer = f.kind == Kind::Integer;
+            let step = if integer { 1.0 } else { 1e-6 };
+            // (bound, whether the bound itself is refused, a value just outside)
+            let bounds = [
+                f.min.map(|m| (m, f.min_exclusive, m - step)),
+                f.max.map(|m| (m, f.max_exclusive, m + step)),
+            ];
+            for (bound, exclusive, outside) in bounds.into_iter().flatten() {
+                let name = f.field;
+                assert_eq!(
+                    refused_for(name, bound, integer),
+                    exclusive,
+                    "{name} at {bound}"
+                );
+                assert!(refused_for(name, outside, integer), "{name} at {outside}");
+            }
+        }
+    }
+
+    #[test]
+    fn every_choice_is_accepted_and_others_are_not() {
+        for f in fields().into_iter().filter(|f| f.kind == Kind::Choice) {
+            for c in f.choices {
+                assert!(
+                    case_with(f.field, Value::from(*c)).is_ok(),
+                    "{} = {c}",
+                    f.field
+                );
+            }
+            assert!(case_with(f.field, Value::from("nonsense")).is_err());
+        }
+    }
+
+    #[test]
+    fn every_field_of_the_case_is_in_the_form() {
+        let defaults = serde_json::to_value(CaseSpec::default()).unwrap();
+        let mut paths = Vec::new();
+        for (section, value) in defaults.as_object().unwrap() {
+            match value.as_object() {
+                Some(inner) => paths.extend(inner.keys().map(|k| format!("{section}.{k}"))),
+                None => paths.push(section.clone()),
+            }
+        }
+        paths.push("loading.crush_distance_mm".into());
+        paths.push("label".into());
+        for p in paths {
+            assert!(
+                SPECS.iter().any(|s| s.field == p),
+                "{p} is missing from the form"
+            );
+        }
+    }
+}

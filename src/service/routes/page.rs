@@ -1,0 +1,69 @@
+//! The web page: `/` and its assets, compiled into the binary (`web/`), so that the page works
+//! with no network: nothing is fetched from anywhere but this server.
+
+use crate::service::error::ApiError;
+use crate::service::form;
+use axum::extract::Path;
+use axum::http::header;
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+
+/// (name, content type, bytes) of every asset.
+const ASSETS: &[(&str, &str, &str)] = &[
+    (
+        "app.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../../web/app.js"),
+    ),
+    (
+        "app.css",
+        "text/css; charset=utf-8",
+        include_str!("../../../web/app.css"),
+    ),
+    (
+        "uplot.min.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../../web/vendor/uplot-1.6.32.min.js"),
+    ),
+    (
+        "uplot.min.css",
+        "text/css; charset=utf-8",
+        include_str!("../../../web/vendor/uplot-1.6.32.min.css"),
+    ),
+];
+
+const INDEX: &str = include_str!("../../../web/index.html");
+
+pub async fn index() -> Response {
+    (
+        [
+            (header::CONTENT_TYPE, "text/html; charset=utf-8"),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        INDEX,
+    )
+        .into_response()
+}
+
+pub async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
+    let (_, kind, body) =
+        ASSETS
+            .iter()
+            .find(|(n, _, _)| *n == name)
+            .ok_or_else(|| ApiError::NotFound {
+                what: format!("asset {name}"),
+            })?;
+    Ok((
+        [
+            (header::CONTENT_TYPE, *kind),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        *body,
+    )
+        .into_response())
+}
+
+/// The case form as data (see [`form`]).
+pub async fn case_fields() -> Json<Vec<form::Field>> {
+    Json(form::fields())
+}

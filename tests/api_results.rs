@@ -1,0 +1,163 @@
+//! What a succeeded job leaves, through the real server on port 0: the summary, the deformed
+//! tube as PNG, the final state as VTU, and a case that keeps no state; and the web page's own
+//! routes (the page, its assets, the form's fields).
+
+mod common;
+
+use common::{get_json, tiny_case, TestApp};
+use serde_json::Value;
+use std::time::Duration;
+
+async fn get(app: &TestApp, path: &str) -> reqwest::Response {
+    app.client.get(app.at(path)).send().await.unwrap()
+}
+
+#[tokio::test]
+async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
+    let app = TestApp::start(&[]).await;
+    let id = app.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let particles = job["particles"].as_u64().unwrap() as usize;
+
+    let summary = get_json(&app.client, &app.at(&format!("/v1/jobs/{id}/summary"))).await;
+    assert_eq!(summary, job["summary"]);
+
+    let r = get(&app, &format!("/v1/jobs/{id}/shape.png")).await;
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.headers()["content-type"], "image/png");
+    let png = r.bytes().await.unwrap();
+    let img = image::load_from_memory(&png).unwrap().to_rgb8();
+    let (w, h) = img.dimensions();
+    assert!(w >= 800 && h >= 300, "{w}×{h}");
+    let drawn = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+    assert!(drawn > 1000, "only {drawn} pixels drawn");
+
+    let r = get(&app, &format!("/v1/jobs/{id}/state.vtu")).await;
+    assert_eq!(r.status(), 200);
+    assert!(r.headers()["content-disposition"]
+        .to_str()
+        .unwrap()
+        .contains(".vtu"));
+    let bytes = r.bytes().await.unwrap();
+    let vtk = vtkio::Vtk::parse_xml(&bytes[..]).unwrap();
+    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).unwrap();
+    assert_eq!(piece.num_points(), particles);
+    let strain = piece
+        .data
+        .point
+        .iter()
+        .find(|a| a.name() == "plastic_strain")
+        .expect("plastic_strain point data");
+    let vtkio::model::Attribute::DataArray(array) = strain else {
+        panic!("plastic_strain is not a data array")
+    };
+    let e: Vec<f32> = array.data.clone().cast_into().unwrap();
+    assert_eq!(e.len(), particles);
+    assert!(e.iter().all(|v| v.is_finite() && *v >= 0.0));
+    // The top plate moved 1 mm: the highest particle ends about that much lower.
+    let Some(points) = piece.points.cast_into::<f32>() else {
+        panic!("points are not f32")
+    };
+    let top = points.chunks(3).map(|p| p[2]).fold(f32::MIN, f32::max);
+    assert!(
+        top < 8.0 - 0.5,
+        "top of the tube at {top} mm after a 1 mm crush"
+    );
+}
+
+#[tokio::test]
+async fn a_case_that_keeps_no_state_has_numbers_but_no_picture() {
+    let app = TestApp::start(&[]).await;
+    let mut case = tiny_case();
+    case["output"]["final_state"] = Value::Bool(false);
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    for path in ["shape.png", "state.vtu"] {
+        let r = get(&app, &format!("/v1/jobs/{id}/{path}")).await;
+        assert_eq!(r.status(), 404, "{path}");
+        let problem: Value = r.json().await.unwrap();
+        assert!(
+            problem["detail"]
+                .as_str()
+                .unwrap()
+                .contains("output.final_state"),
+            "{problem}"
+        );
+    }
+    assert_eq!(
+        get(&app, &format!("/v1/jobs/{id}/history")).await.status(),
+        200
+    );
+}
+
+#[tokio::test]
+async fn unfinished_and_unknown_jobs_have_no_results() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let id = app.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    for path in ["summary", "shape.png", "state.vtu"] {
+        assert_eq!(
+            get(&app, &format!("/v1/jobs/{id}/{path}")).await.status(),
+            409
+        );
+        let unknown = format!("/v1/jobs/00000000-0000-4000-8000-000000000000/{path}");
+        assert_eq!(get(&app, &unknown).await.status(), 404);
+    }
+}
+
+#[tokio::test]
+async fn the_page_and_its_assets_are_served_from_the_binary() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let page = get(&app, "/").await;
+    assert_eq!(page.status(), 200);
+    assert!(page.headers()["content-type"]
+        .to_str()
+        .unwrap()
+        .starts_with("text/html"));
+    let html = page.text().await.unwrap();
+    // Every script and stylesheet the page names is served here: nothing from elsewhere.
+    let mut named = 0;
+    for attr in ["src=\"", "href=\""] {
+        for part in html.split(attr).skip(1) {
+            let target = &part[..part.find('"').unwrap()];
+            if target.starts_with('#') {
+                continue;
+            }
+            assert!(target.starts_with("/assets/"), "{target} is not ours");
+            let r = get(&app, target).await;
+            assert_eq!(r.status(), 200, "{target}");
+            assert!(!r.bytes().await.unwrap().is_empty());
+            named += 1;
+        }
+    }
+    assert!(named >= 4, "{named} assets named");
+    let js = get(&app, "/assets/app.js").await.text().await.unwrap();
+    assert!(!js.contains("http://") && !js.contains("https://"));
+    assert_eq!(get(&app, "/assets/nothing.js").await.status(), 404);
+
+    let fields = get_json(&app.client, &app.at("/v1/case/fields")).await;
+    let thickness = fields
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["field"] == "tube.thickness_mm")
+        .unwrap();
+    assert_eq!(thickness["unit"], "mm");
+    assert_eq!(thickness["default"], 3.2);
+    assert_eq!(thickness["min"], 0.0);
+    assert_eq!(thickness["min_exclusive"], true);
+}

@@ -1,0 +1,392 @@
+//! The web page in a real browser: headless Chromium driven through ChromeDriver (fantoccini)
+//! against the real server on port 0. It types a bad value and sees the browser's error beside
+//! the field, types a value only the server can refuse and sees the server's error beside the
+//! field (and no job stored), submits a small case, sees the progress bar move and the load
+//! curve and the deformed tube appear, then runs a resolution sweep from the form and sees the
+//! overlaid curves and the convergence view. Screenshots of each view are written to
+//! `target/browser-screenshots/` (or `$CRUSH_SCREENSHOTS`).
+//!
+//! Needs `chromium` and `chromedriver` (Debian: `apt-get install chromium chromium-driver`).
+//! Without them the test says so and passes, unless `CRUSH_BROWSER_TEST=required` (as CI sets).
+
+mod common;
+
+use common::TestApp;
+use fantoccini::{Client, ClientBuilder, Locator};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn find_program(env: &str, names: &[&str]) -> Option<PathBuf> {
+    if let Ok(p) = std::env::var(env) {
+        return Some(PathBuf::from(p));
+    }
+    let path = std::env::var_os("PATH")?;
+    for dir in std::env::split_paths(&path) {
+        for name in names {
+            let candidate = dir.join(name);
+            if candidate.is_file() {
+                return Some(candidate);
+            }
+        }
+    }
+    None
+}
+
+/// ChromeDriver on a free port; killed on drop.
+struct Driver {
+    child: Child,
+    url: String,
+}
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+async fn start_driver(program: &Path) -> Driver {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let child = Command::new(program)
+        .arg(format!("--port={port}"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("chromedriver starts");
+    let url = format!("http://127.0.0.1:{port}");
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "chromedriver did not listen");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    Driver { child, url }
+}
+
+async fn connect(driver: &Driver, chromium: &Path, profile: &Path) -> Client {
+    let mut caps = serde_json::Map::new();
+    caps.insert(
+        "goog:chromeOptions".into(),
+        json!({
+            "binary": chromium,
+            "args": [
+                "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                "--no-first-run", "--disable-background-networking",
+                "--disable-component-update", "--disable-sync", "--disable-dev-shm-usage",
+                "--hide-scrollbars", "--window-size=1500,1400",
+                format!("--user-data-dir={}", profile.display()),
+            ]
+        }),
+    );
+    let connector = hyper_util::client::legacy::connect::HttpConnector::new();
+    ClientBuilder::new(connector)
+        .capabilities(caps)
+        .connect(&driver.url)
+        .await
+        .expect("a Chromium session")
+}
+
+/// Runs `script` (a function body returning a value) in the page.
+async fn js(c: &Client, script: &str) -> Value {
+    c.execute(script, vec![]).await.unwrap()
+}
+
+/// Polls `script` until it returns something truthy; returns that, or panics saying `what`.
+async fn until(c: &Client, script: &str, timeout: Duration, what: &str) -> Value {
+    let deadline = Instant::now() + timeout;
+    loop {
+        let v = js(c, script).await;
+        let truthy = match &v {
+            Value::Null => false,
+            Value::Bool(b) => *b,
+            Value::String(s) => !s.is_empty(),
+            Value::Number(n) => n.as_f64() != Some(0.0),
+            _ => true,
+        };
+        if truthy {
+            return v;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+async fn shot(c: &Client, dir: &Path, name: &str) {
+    let png = c.screenshot().await.unwrap();
+    std::fs::write(dir.join(format!("{name}.png")), png).unwrap();
+}
+
+async fn click(c: &Client, css: &str) {
+    c.find(Locator::Css(css))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+}
+
+fn error_beside(field: &str) -> String {
+    format!(
+        "const e = document.querySelector('.field[data-row=\"{field}\"] .err'); \
+         return e ? e.textContent : null;"
+    )
+}
+
+/// Sets form fields the way typing would (an `input` event each).
+async fn fill(c: &Client, values: &[(&str, &str)]) {
+    for (field, value) in values {
+        let script = format!(
+            "const i = document.querySelector('[data-field=\"{field}\"]'); \
+             i.value = {value:?}; i.dispatchEvent(new Event('input', {{bubbles: true}})); return true;"
+        );
+        js(c, &script).await;
+    }
+}
+
+#[tokio::test]
+async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
+    let required = std::env::var("CRUSH_BROWSER_TEST").as_deref() == Ok("required");
+    let chromium = find_program(
+        "CRUSH_CHROMIUM",
+        &["chromium", "chromium-browser", "google-chrome"],
+    );
+    let chromedriver = find_program("CRUSH_CHROMEDRIVER", &["chromedriver"]);
+    let (Some(chromium), Some(chromedriver)) = (chromium, chromedriver) else {
+        assert!(
+            !required,
+            "CRUSH_BROWSER_TEST=required but chromium or chromedriver is missing"
+        );
+        eprintln!("browser test skipped: chromium and chromedriver are not installed");
+        return;
+    };
+    let shots = std::env::var_os("CRUSH_SCREENSHOTS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| common::repo_file("target/browser-screenshots"));
+    std::fs::create_dir_all(&shots).unwrap();
+    let app = TestApp::start(&["--concurrent-jobs", "2"]).await;
+    let driver = start_driver(&chromedriver).await;
+    let profile = tempfile::tempdir().unwrap();
+    let c = connect(&driver, &chromium, profile.path()).await;
+    let long = Duration::from_secs(180);
+
+    // The form, built from the server's field list.
+    c.goto(&app.url).await.unwrap();
+    until(
+        &c,
+        "return document.querySelector('#f-tube-thickness_mm') !== null;",
+        long,
+        "the form",
+    )
+    .await;
+    let unit = js(&c, "return document.querySelector('.field[data-row=\"tube.thickness_mm\"] .unit').textContent;").await;
+    assert_eq!(unit, "mm");
+    shot(&c, &shots, "1-form").await;
+
+    // A bad value: the browser says why, beside the field, as it is typed.
+    let thickness = c.find(Locator::Css("#f-tube-thickness_mm")).await.unwrap();
+    thickness.clear().await.unwrap();
+    thickness.send_keys("-1").await.unwrap();
+    let err = until(
+        &c,
+        &error_beside("tube.thickness_mm"),
+        long,
+        "the browser's error",
+    )
+    .await;
+    assert!(err.as_str().unwrap().contains("must be > 0"), "{err}");
+
+    // A value only the server can refuse (the wall would close the bore): its error appears
+    // beside the field, and submitting stores nothing.
+    thickness.clear().await.unwrap();
+    thickness.send_keys("15").await.unwrap();
+    let err = until(
+        &c,
+        &format!("const t = (function(){{{}}})(); return t && t.includes('mean_diameter_mm') ? t : null;", error_beside("tube.thickness_mm")),
+        long,
+        "the server's error beside the field",
+    )
+    .await;
+    assert!(
+        err.as_str().unwrap().contains("< mean_diameter_mm / 2"),
+        "{err}"
+    );
+    click(&c, "#submit").await;
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    let hash = js(&c, "return location.hash;").await;
+    assert!(
+        hash == "" || hash == "#/",
+        "navigated to {hash} after a refused case"
+    );
+    let jobs = common::get_json(&app.client, &app.at("/v1/jobs")).await;
+    assert_eq!(
+        jobs["jobs"].as_array().unwrap().len(),
+        0,
+        "a refused case was stored"
+    );
+    js(&c, "window.scrollTo(0, 0); return true;").await;
+    shot(&c, &shots, "2-form-errors").await;
+
+    // A small case: submit, watch the progress bar move, see the curve and the tube.
+    fill(
+        &c,
+        &[
+            ("label", "browser: axial t3.2 n2"),
+            ("tube.thickness_mm", "3.2"),
+            ("tube.length_mm", "40"),
+            ("loading.crush_distance_mm", "24"),
+            ("loading.plate_speed_m_s", "5"),
+            ("discretization.particles_through_thickness", "2"),
+            ("output.history_points", "200"),
+        ],
+    )
+    .await;
+    until(
+        &c,
+        &format!(
+            "return (function(){{{}}})() === '';",
+            error_beside("tube.thickness_mm")
+        ),
+        long,
+        "the error to clear",
+    )
+    .await;
+    until(
+        &c,
+        "return document.getElementById('estimate').textContent;",
+        long,
+        "the estimate",
+    )
+    .await;
+    click(&c, "#submit").await;
+    until(
+        &c,
+        "return document.getElementById('job-progress') !== null;",
+        long,
+        "the job view",
+    )
+    .await;
+    let mut seen: Vec<f64> = Vec::new();
+    let deadline = Instant::now() + long;
+    let mut running_shot = false;
+    loop {
+        let v = js(&c, "const b = document.getElementById('job-progress'); const s = document.getElementById('job-status'); return [b ? b.value : 0, s ? s.textContent : ''];").await;
+        let fraction = v[0].as_f64().unwrap_or(0.0);
+        if seen.last() != Some(&fraction) {
+            seen.push(fraction);
+        }
+        if !running_shot && fraction > 0.3 && fraction < 0.8 {
+            shot(&c, &shots, "3-job-running").await;
+            running_shot = true;
+        }
+        if v[1] == "succeeded" || v[1] == "failed" {
+            assert_eq!(v[1], "succeeded");
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the job did not finish; progress seen {seen:?}"
+        );
+        tokio::time::sleep(Duration::from_millis(40)).await;
+    }
+    let moving: Vec<f64> = seen
+        .iter()
+        .copied()
+        .filter(|f| *f > 0.0 && *f < 1.0)
+        .collect();
+    assert!(
+        moving.len() >= 2 && moving.windows(2).all(|w| w[1] > w[0]),
+        "the progress bar did not move forward: {seen:?}"
+    );
+    // The curve holds the whole history; the tube picture has loaded; the summary is there.
+    let points = until(&c, "const p = Number(document.getElementById('curve').dataset.points); return p >= 200 ? p : 0;", long, "the full curve").await;
+    assert!(points.as_f64().unwrap() >= 200.0);
+    assert_eq!(
+        js(
+            &c,
+            "return document.querySelectorAll('#curve canvas').length > 0;"
+        )
+        .await,
+        true
+    );
+    until(
+        &c,
+        "const i = document.getElementById('shape'); return i && i.complete && i.naturalWidth > 0;",
+        long,
+        "the deformed-tube picture",
+    )
+    .await;
+    let summary = js(&c, "return document.getElementById('summary').textContent;").await;
+    assert!(summary.as_str().unwrap().contains("kN"), "{summary}");
+    let refs = js(
+        &c,
+        "return document.getElementById('references').textContent;",
+    )
+    .await;
+    assert!(refs.as_str().unwrap().contains("Alexander"), "{refs}");
+    let list = js(
+        &c,
+        "return document.querySelector('#job-list tbody').textContent;",
+    )
+    .await;
+    assert!(
+        list.as_str().unwrap().contains("browser: axial t3.2 n2"),
+        "{list}"
+    );
+    c.set_window_size(1500, 2300).await.unwrap();
+    shot(&c, &shots, "4-job-done").await;
+    c.set_window_size(1500, 1400).await.unwrap();
+
+    // A resolution sweep from the form: overlaid curves, the table, and the convergence view.
+    c.goto(&format!("{}/#/", app.url)).await.unwrap();
+    until(
+        &c,
+        "return document.querySelector('#f-tube-thickness_mm') !== null;",
+        long,
+        "the form again",
+    )
+    .await;
+    fill(
+        &c,
+        &[
+            ("label", "browser: resolution sweep"),
+            ("tube.length_mm", "12"),
+            ("loading.crush_distance_mm", "4"),
+            ("loading.plate_speed_m_s", "20"),
+            ("output.history_points", "40"),
+        ],
+    )
+    .await;
+    js(&c, "document.getElementById('sweep-field').value = 'discretization.particles_through_thickness'; document.getElementById('sweep-values').value = '1, 2, 3'; return true;").await;
+    click(&c, "#submit").await;
+    until(
+        &c,
+        "return location.hash.startsWith('#/sweeps/');",
+        long,
+        "the sweep view",
+    )
+    .await;
+    until(&c, "const t = document.getElementById('sweep-counts'); return t && t.textContent === '3 succeeded';", long, "the sweep to finish").await;
+    until(&c, "const c = document.getElementById('sweep-curves'); return c && Number(c.dataset.points) > 0;", long, "the overlaid curves").await;
+    until(&c, "const c = document.getElementById('sweep-curves'); return c.dataset.series === '3' && document.querySelectorAll('#sweep-curves .u-legend .u-series').length >= 3;", long, "three curves").await;
+    let rows = js(
+        &c,
+        "return document.querySelectorAll('#sweep-table tbody tr').length;",
+    )
+    .await;
+    assert_eq!(rows.as_u64(), Some(3));
+    c.set_window_size(1500, 1800).await.unwrap();
+    shot(&c, &shots, "5-sweep").await;
+    until(&c, "const c = document.getElementById('convergence-chart'); return c && Number(c.dataset.points) > 0;", long, "the convergence chart").await;
+    js(
+        &c,
+        "document.getElementById('convergence').scrollIntoView(); return true;",
+    )
+    .await;
+    shot(&c, &shots, "6-convergence").await;
+    c.close().await.unwrap();
+}
