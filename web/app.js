@@ -59,7 +59,17 @@ const modeName = (m) => {
   if (m.kind === "diamond") return `diamond, ${m.lobes} lobes`;
   return m.kind.replace("_", " ");
 };
-const jobName = (j) => j.label || j.id.slice(0, 8);
+// Short names of the fields most often swept, as the design page writes them.
+const SHORT = {
+  "discretization.particles_through_thickness": "n", "tube.thickness_mm": "t", "tube.mean_diameter_mm": "d",
+  "tube.length_mm": "l", "loading.plate_speed_m_s": "v", "contact.friction": "μ",
+};
+const short = (f) => SHORT[f] || f.split(".").pop();
+const sweepValues = (j) => Object.entries(j.sweep_values || {}).map(([f, v]) => `${short(f)} = ${v}`).join(", ");
+const jobName = (j) => {
+  const name = j.label || j.id.slice(0, 8);
+  return j.sweep_values ? `${name} (${sweepValues(j)})` : name;
+};
 const isLive = (status) => status === "queued" || status === "running";
 
 // Things the current view opened (event streams, timers, charts); closed on navigation.
@@ -138,8 +148,9 @@ async function refreshJobList() {
   if (!r.ok) { note.textContent = "Could not load jobs: " + (r.data && r.data.detail); return; }
   note.textContent = r.data.jobs.length ? "Newest first; live while running." : "No jobs yet: submit a case.";
   body.replaceChildren(...r.data.jobs.map((j) => el("tr", { "data-job-row": j.id },
-    el("td", {}, el("a", { href: `#/jobs/${j.id}`, title: j.id }, jobName(j)),
-      j.sweep_id ? el("div", { class: "small" }, el("a", { href: `#/sweeps/${j.sweep_id}` }, "sweep")) : null),
+    el("td", {}, el("a", { href: `#/jobs/${j.id}`, title: `${jobName(j)} — ${j.id}` }, j.label || j.id.slice(0, 8)),
+      j.sweep_id ? el("div", { class: "small" }, el("a", { href: `#/sweeps/${j.sweep_id}` }, "sweep"),
+        " · " + sweepValues(j)) : null),
     el("td", {}, el("span", { class: "badge " + j.status }, j.status)),
     progressCell(j),
     el("td", { class: "num" }, j.summary ? kN(j.summary.mean_load_n) : "–"))));
@@ -245,7 +256,7 @@ function showProblem(data) {
   let shown = 0;
   const errors = data.errors || (data.field ? [{ field: data.field, reason: data.detail }] : []);
   for (const e of errors) {
-    const field = e.field.replace(/^base\./, "");
+    const field = e.field.replace(/^base\./, "").replace(/^parameters(\..*)?$/, "parameters");
     const row = document.querySelector(`.field[data-row="${field}"]`);
     if (row && row.querySelector(".err").dataset.source === "client") continue;
     showFieldError(field, e.reason, "server");
@@ -462,6 +473,8 @@ async function renderJob(main, id) {
     below);
   const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN"] });
   const live = [[], []];
+  let redraw = null;
+  onLeave(() => clearTimeout(redraw));
   const showProgress = (p) => {
     bar.value = p.fraction;
     barText.textContent = `${Math.round(100 * p.fraction)} % · step ${p.step.toLocaleString()} · ` +
@@ -474,6 +487,8 @@ async function renderJob(main, id) {
     status.className = "badge " + job.status;
     status.textContent = job.status;
     cancel.remove();
+    clearTimeout(redraw);
+    redraw = -1; // no more live redraws
     if (job.status === "succeeded") {
       bar.value = 1;
       barText.textContent = "done";
@@ -498,7 +513,8 @@ async function renderJob(main, id) {
       if (n && p.displacement_mm <= live[0][n - 1]) return; // a restarted attempt
       live[0].push(p.displacement_mm);
       live[1].push(p.load_n / 1000);
-      set(live);
+      // Redraw at most four times a second, whatever the history's resolution.
+      if (!redraw) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
     });
     for (const end of ["done", "failed", "cancelled"]) {
       es.addEventListener(end, () => { es.close(); finish(); });
@@ -519,7 +535,8 @@ async function showResult(job, set, side, below) {
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
   side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Against closed-form references"),
     referenceTable(s, lateral),
-    el("p", { class: "small muted" }, "Green: within 25 % of the reference. Diamond loads use Johnson's travelling-hinge form."));
+    el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
+      lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),
@@ -573,7 +590,7 @@ async function renderSweep(main, id) {
     el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText),
     el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id}`),
     el("h2", {}, "Load curves"), curveBox, el("h2", {}, "Runs"), tableBox, convBox);
-  const rowName = (row) => fields.map((f) => `${f.split(".").pop()} = ${row[f]}`).join(", ");
+  const rowName = (row) => fields.map((f) => `${short(f)} = ${row[f]}`).join(", ");
   let chart = null;
   let drawn = "";
   let convChart = null;

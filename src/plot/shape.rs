@@ -1,7 +1,8 @@
 //! The deformed tube as a PNG: the final particle positions, each a square of 1.3 particle
 //! spacings (which closes the gaps of stretched regions), coloured by equivalent plastic strain
-//! (viridis, 0 to the 99th percentile), seen from three directions: the side, an oblique view from above, and a section through the axis that
-//! shows the wall's fold profile (axial) or the flattened ring (lateral). Orthographic
+//! (viridis, 0 to the 99th percentile; the far side darkened in the whole-tube views), seen
+//! from three directions: the side, an oblique view from above, and a section through the axis
+//! that shows the wall's fold profile (axial) or the flattened ring (lateral). Orthographic
 //! projection, far particles drawn first. Lengths in mm.
 
 use super::font;
@@ -94,13 +95,20 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
 /// The top of the colour scale: the 99th percentile of the plastic strain (a few particles at
 /// the plate edges would otherwise wash out the folds), at least 1e-6.
 pub fn strain_scale(strain: &[f32]) -> f64 {
+    strain_percentile(strain).max(MIN_SCALE)
+}
+
+/// The bottom of the colour scale's top: below it the tube has not yielded.
+const MIN_SCALE: f64 = 1e-6;
+
+fn strain_percentile(strain: &[f32]) -> f64 {
     let mut finite: Vec<f32> = strain.iter().copied().filter(|e| e.is_finite()).collect();
     if finite.is_empty() {
-        return 1e-6;
+        return 0.0;
     }
     let k = ((finite.len() - 1) as f64 * 0.99).round() as usize;
     let (_, top, _) = finite.select_nth_unstable_by(k, f32::total_cmp);
-    (*top as f64).max(1e-6)
+    *top as f64
 }
 
 /// The picture as PNG bytes.
@@ -213,10 +221,20 @@ fn draw_view(area: &Area, shape: &TubeShape, view: &View, top: f64, text: bool) 
     let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
     let half = (0.65 * spacing * scale).max(0.6);
     let (ox, oy) = (pw as f64 / 2.0, margin + room_h / 2.0);
-    for (sx, sy, _, e) in points {
+    // Depth cue in the whole-tube views: the far side darker, so the shape reads as 3D.
+    let (d0, d1) = (points[0].2, points[points.len() - 1].2);
+    let cue = |d: f64| match view.slab {
+        Some(_) => 1.0,
+        None if d1 > d0 => 0.55 + 0.45 * (d - d0) / (d1 - d0),
+        None => 1.0,
+    };
+    for (sx, sy, depth, e) in points {
         let px = ox + (sx - cx) * scale;
         let py = oy - (sy - cy) * scale;
-        let colour = ViridisRGB.get_color_normalized(e.max(0.0).min(top as f32), 0.0, top as f32);
+        let c = ViridisRGB.get_color_normalized(e.max(0.0).min(top as f32), 0.0, top as f32);
+        let k = cue(depth);
+        let shade = |v: u8| (v as f64 * k).round() as u8;
+        let colour = RGBColor(shade(c.0), shade(c.1), shade(c.2));
         let a = ((px - half).round() as i32, (py - half).round() as i32);
         let b = ((px + half).round() as i32, (py + half).round() as i32);
         area.draw(&Rectangle::new([a, b], colour.filled()))?;
@@ -249,14 +267,21 @@ fn colour_bar(area: &Area, top: f64, text: bool) -> DrawResult {
     }
     if text {
         let font = ("sans-serif", 14).into_font();
-        area.draw(&Text::new("plastic strain", (4, 8), font.clone()))?;
+        let name = if top <= MIN_SCALE {
+            "no plastic strain"
+        } else {
+            "plastic strain"
+        };
+        area.draw(&Text::new(name, (4, 8), font.clone()))?;
         for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
             let y = by1 - (f * steps as f64) as i32 - 7;
-            let label = if f == 1.0 {
-                format!("≥{:.3}", top)
+            let value = f * top;
+            let text = if top < 0.01 {
+                format!("{value:.1e}")
             } else {
-                format!("{:.3}", f * top)
+                format!("{value:.3}")
             };
+            let label = if f == 1.0 { format!("≥{text}") } else { text };
             area.draw(&Text::new(label, (bx + 28, y), font.clone()))?;
         }
     }

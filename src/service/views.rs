@@ -52,6 +52,8 @@ pub struct JobView {
     pub progress: Option<Value>,
     pub error: Option<String>,
     pub sweep_id: Option<Uuid>,
+    /// The values this job takes from its sweep, field → value.
+    pub sweep_values: Option<Value>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub case: Option<Value>,
     pub summary: Option<Value>,
@@ -75,6 +77,7 @@ impl JobView {
             progress: json(r.progress_json.as_deref()),
             error: r.error.clone(),
             sweep_id: r.sweep_id,
+            sweep_values: json(r.sweep_values_json.as_deref()),
             case: if with_case {
                 json(Some(&r.case_json))
             } else {
