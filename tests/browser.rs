@@ -328,6 +328,20 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     )
     .await;
     assert!(refs.as_str().unwrap().contains("Alexander"), "{refs}");
+    // Every download link answers with a file.
+    let downloads = js(
+        &c,
+        "const links = [...document.querySelectorAll('.downloads a')]; \
+         window.__downloads = null; \
+         Promise.all(links.map(a => fetch(a.href).then(r => r.status + ' ' + a.textContent))) \
+           .then(s => { window.__downloads = s; }); return links.length;",
+    )
+    .await;
+    assert_eq!(downloads.as_u64(), Some(4));
+    let statuses = until(&c, "return window.__downloads;", long, "the downloads").await;
+    for s in statuses.as_array().unwrap() {
+        assert!(s.as_str().unwrap().starts_with("200 "), "{s}");
+    }
     let list = js(
         &c,
         "return document.querySelector('#job-list tbody').textContent;",

@@ -192,7 +192,7 @@ async function loadFields() {
 }
 
 function inputFor(f) {
-  const common = { id: fieldId(f.field), name: f.field, "data-field": f.field };
+  const common = { id: fieldId(f.field), name: f.field, "data-field": f.field, "aria-describedby": "err-" + fieldId(f.field) };
   if (f.kind === "choice") {
     return el("select", common, f.choices.map((c) => el("option", { value: c, selected: c === f.default }, c)));
   }
@@ -232,7 +232,11 @@ function showFieldError(field, message, source) {
   const row = document.querySelector(`.field[data-row="${field}"]`);
   const target = row ? row.querySelector(".err") : document.getElementById("form-error");
   if (!target) return;
-  if (row) row.classList.toggle("invalid", !!message);
+  if (row) {
+    row.classList.toggle("invalid", !!message);
+    const input = row.querySelector("input, select");
+    if (input) input.setAttribute("aria-invalid", message ? "true" : "false");
+  }
   target.textContent = message ? `${row ? "" : field + " "}${message}` : "";
   target.dataset.source = message ? source : "";
 }
@@ -341,7 +345,7 @@ async function renderForm(main) {
         el("span", { class: "hint" },
           f.default === null || f.default === undefined ? "" : `default ${f.default}`,
           f.help ? (f.default === null || f.default === undefined ? "" : " · ") + f.help : ""),
-        el("div", { class: "err", "data-source": "" }))))),
+        el("div", { class: "err", id: "err-" + fieldId(f.field), role: "alert", "data-source": "" }))))),
     el("fieldset", {}, el("legend", {}, "sweep (optional)"),
       el("div", { class: "field", "data-row": "parameters" },
         el("label", { for: "sweep-field" }, "Vary this field"),
@@ -519,6 +523,17 @@ async function renderJob(main, id) {
     for (const end of ["done", "failed", "cancelled"]) {
       es.addEventListener(end, () => { es.close(); finish(); });
     }
+    // A stream the server refused (too many open, say) is not retried by the browser: poll.
+    es.onerror = () => {
+      if (es.readyState !== EventSource.CLOSED) return;
+      const poll = setInterval(async () => {
+        const j = await api("GET", `/v1/jobs/${id}`);
+        if (!j.ok) return;
+        if (j.data.progress) showProgress(j.data.progress);
+        if (!isLive(j.data.status)) { clearInterval(poll); finish(); }
+      }, 2000);
+      onLeave(() => clearInterval(poll));
+    };
   } else {
     await finish();
   }
