@@ -141,12 +141,17 @@ function setListProgress(id, fraction) {
   if (label) label.textContent = " " + Math.round(100 * fraction) + " %";
 }
 
+let listLimit = 30;
 async function refreshJobList() {
-  const r = await api("GET", "/v1/jobs?limit=30");
+  const status = document.getElementById("job-filter").value;
+  const r = await api("GET", `/v1/jobs?limit=${listLimit}` + (status ? `&status=${status}` : ""));
   const body = document.querySelector("#job-list tbody");
   const note = document.getElementById("job-list-note");
   if (!r.ok) { note.textContent = "Could not load jobs: " + (r.data && r.data.detail); return; }
-  note.textContent = r.data.jobs.length ? "Newest first; live while running." : "No jobs yet: submit a case.";
+  note.replaceChildren(r.data.jobs.length ? "Newest first; live while running. " : "No jobs here yet. ",
+    r.data.next_cursor && listLimit < 500
+      ? el("a", { href: "#", id: "job-list-more", onclick: (e) => { e.preventDefault(); listLimit = Math.min(500, listLimit * 2); refreshJobList(); } }, "Show more")
+      : "");
   body.replaceChildren(...r.data.jobs.map((j) => el("tr", { "data-job-row": j.id },
     el("td", {}, el("a", { href: `#/jobs/${j.id}`, title: `${jobName(j)} — ${j.id}` }, j.label || j.id.slice(0, 8)),
       j.sweep_id ? el("div", { class: "small" }, el("a", { href: `#/sweeps/${j.sweep_id}` }, "sweep"),
@@ -174,6 +179,7 @@ async function refreshJobList() {
 }
 
 function startJobList() {
+  document.getElementById("job-filter").addEventListener("change", refreshJobList);
   refreshJobList();
   listTimer = setInterval(refreshJobList, 3000);
 }
