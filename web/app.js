@@ -461,7 +461,28 @@ function referenceTable(s, lateral) {
     el("tbody", {}, rows));
 }
 
+/// The case's main numbers, defaults filled in from the form's field list.
+function caseTable(c) {
+  const value = (field) => {
+    let v = c;
+    for (const p of field.split(".")) v = v === undefined || v === null ? undefined : v[p];
+    if (v !== undefined) return v;
+    const f = (FIELDS || []).find((x) => x.field === field);
+    return f ? f.default : undefined;
+  };
+  const rows = [
+    ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
+    ["Material", `E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, σy ${value("material.yield_stress_mpa")} MPa`],
+    ["Loading", `${value("loading.mode")}, ${value("loading.plate_speed_m_s")} m/s, ` +
+      (value("loading.crush_distance_mm") === null || value("loading.crush_distance_mm") === undefined ? "default distance" : `${value("loading.crush_distance_mm")} mm`)],
+    ["Particles through the wall", `${value("discretization.particles_through_thickness")} (${value("discretization.shape")})`],
+    ["Trigger", `${value("trigger.weak_fraction")} weak`],
+  ];
+  return el("table", { id: "case-table" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", {}, v)))));
+}
+
 async function renderJob(main, id) {
+  await loadFields().catch(() => null);
   const r = await api("GET", `/v1/jobs/${id}`);
   if (!r.ok) { main.replaceChildren(el("h1", {}, "Job not found"), el("p", {}, r.data && r.data.detail)); return; }
   let job = r.data;
@@ -481,6 +502,7 @@ async function renderJob(main, id) {
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
     el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load on the moving plate"), chartBox), side),
     below);
+  side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}));
   const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN"] });
   const live = [[], []];
   let redraw = null;
@@ -557,7 +579,8 @@ async function showResult(job, set, side, below) {
   side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Against closed-form references"),
     referenceTable(s, lateral),
     el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
-      lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."));
+      lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
+    el("h2", {}, "Case"), caseTable(job.case || {}));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),
