@@ -585,7 +585,13 @@ async function showResult(job, set, side, below) {
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),
     keepsState
-      ? el("div", { class: "shape" }, el("img", { id: "shape", src: job.links.shape, alt: "final shape of the tube: side, oblique and section views" }))
+      ? el("div", { class: "shape" }, el("img", {
+        id: "shape", src: job.links.shape, alt: "final shape of the tube: side, oblique and section views",
+        onerror: async (e) => {
+          const r = await api("GET", job.links.shape);
+          e.target.replaceWith(el("p", { class: "muted" }, (r.data && r.data.detail) || "No picture."));
+        },
+      }))
       : el("p", { class: "muted" }, "This case did not keep its final state (output.final_state = false)."),
     el("h2", {}, "Downloads"),
     el("p", { class: "downloads" },

@@ -55,11 +55,13 @@ async fn final_state(
     )
     .map_err(|e| corrupt(format!("stored case of job {id}: {e}")))?;
     let Some((particles, bytes)) = s.store.final_state(record.id).await? else {
+        let why = if case.spec().output.final_state {
+            "it finished before this server kept final states"
+        } else {
+            "its case set output.final_state = false, so none was kept"
+        };
         return Err(ApiError::NotFound {
-            what: format!(
-                "the final state of job {id} (its case set output.final_state = false, so none \
-                 was kept)"
-            ),
+            what: format!("the final state of job {id} ({why})"),
         });
     };
     let state = state::decode(particles, &bytes)
