@@ -500,11 +500,11 @@ async function renderJob(main, id) {
     el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null),
     el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}`,
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
-    el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load on the moving plate"), chartBox), side),
+    el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
     below);
   side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}));
-  const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN"] });
-  const live = [[], []];
+  const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
+  const live = [[], [], []]; // the fixed plate's load comes with the stored history only
   let redraw = null;
   onLeave(() => clearTimeout(redraw));
   const showProgress = (p) => {
@@ -545,6 +545,7 @@ async function renderJob(main, id) {
       if (n && p.displacement_mm <= live[0][n - 1]) return; // a restarted attempt
       live[0].push(p.displacement_mm);
       live[1].push(p.load_n / 1000);
+      live[2].push(null);
       // Redraw at most four times a second, whatever the history's resolution.
       if (!redraw) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
     });
@@ -572,7 +573,8 @@ async function showResult(job, set, side, below) {
   if (h.ok) {
     const u = h.data.columns.indexOf("displacement_mm");
     const p = h.data.columns.indexOf("load_top_n");
-    set([h.data.rows.map((r) => r[u]), h.data.rows.map((r) => r[p] / 1000)]);
+    const b = h.data.columns.indexOf("load_bottom_n");
+    set([h.data.rows.map((r) => r[u]), h.data.rows.map((r) => r[p] / 1000), h.data.rows.map((r) => r[b] / 1000)]);
   }
   const s = job.summary;
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
