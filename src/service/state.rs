@@ -76,7 +76,7 @@ pub fn vtu(title: &str, initial_mm: &[[f64; 3]], state: &FinalState) -> anyhow::
         .flat_map(|(x, x0)| (0..3).map(move |k| x[k] - x0[k] as f32))
         .collect();
     let vtk = Vtk {
-        version: Version::new((1, 0)),
+        version: Version::new_xml(1, 0),
         title: title.to_string(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,
