@@ -74,3 +74,42 @@ fn bench_refuses_a_bad_shape_and_zero_threads() {
         assert!(stderr.contains(expect), "{flag} {value}: {stderr}");
     }
 }
+
+/// `crush run` on a tiny case writes its history, summary, final particles and the picture of
+/// the deformed tube; a case that keeps no final state writes neither of the last two.
+#[test]
+fn run_writes_its_files_and_leaves_out_the_state_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, keep) in [("keep", true), ("lean", false)] {
+        let case = serde_json::json!({
+            "tube": {"length_mm": 8},
+            "discretization": {"particles_through_thickness": 1},
+            "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20},
+            "output": {"history_points": 20, "final_state": keep}
+        });
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, case.to_string()).unwrap();
+        let out_dir = dir.path().join(name);
+        let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+            .arg("run")
+            .arg(&path)
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(out_dir.join("history.csv").is_file());
+        assert!(out_dir.join("summary.json").is_file());
+        assert_eq!(out_dir.join("particles.csv").is_file(), keep, "{name}");
+        assert_eq!(out_dir.join("shape.png").is_file(), keep, "{name}");
+        if keep {
+            let png = std::fs::read(out_dir.join("shape.png")).unwrap();
+            let img = image::load_from_memory(&png).unwrap();
+            assert!(img.width() >= 800, "{} px wide", img.width());
+        }
+    }
+}

@@ -72,26 +72,16 @@ pub fn write_summary_json(path: &Path, file: &SummaryFile) -> anyhow::Result<()>
     std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
 }
 
-/// The deformed tube, coloured by plastic strain (see [`crate::plot::shape_png`]).
+/// The deformed tube, coloured by plastic strain (see [`crate::plot::tube_png`]).
 pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow::Result<()> {
     let position: Vec<[f32; 3]> = snapshot
         .position_mm
         .iter()
-        .map(|x| [x[0] as f32, x[1] as f32, x[2] as f32])
+        .map(|x| x.map(|v| v as f32))
         .collect();
     let strain: Vec<f32> = snapshot.plastic_strain.iter().map(|&e| e as f32).collect();
-    let title = case
-        .spec()
-        .label
-        .clone()
-        .unwrap_or_else(|| "final shape".into());
-    let png = crate::plot::shape_png(&crate::plot::TubeShape {
-        title: &title,
-        position_mm: &position,
-        plastic_strain: &strain,
-        spacing_mm: case.spacing_mm(),
-        axis_x: case.spec().loading.mode == crate::solver::case::LoadingMode::Lateral,
-    })?;
+    let title = case.spec().label.as_deref().unwrap_or("final shape");
+    let png = crate::plot::tube_png(case, title, &position, &strain)?;
     std::fs::write(path, png).with_context(|| format!("writing {}", path.display()))
 }
 

@@ -1,10 +1,11 @@
-//! Line plots as SVG and PNG (plotters). Text needs a font: the first of a few common system
+//! Line plots as SVG and PNG, and the deformed tube as PNG ([`tube_png`]), with plotters. Text
+//! needs a font: the first of a few common system
 //! TrueType fonts is registered once; without one the plots are drawn without text and a
 //! warning says so.
 
 mod shape;
 
-pub use shape::{shape_png, strain_scale, TubeShape};
+pub use shape::{shape_png, tube_png, TubeShape};
 
 use anyhow::Context;
 use plotters::coord::Shift;

@@ -6,6 +6,8 @@
 //! projection, far particles drawn first. Lengths in mm.
 
 use super::font;
+use crate::solver::case::LoadingMode;
+use crate::solver::Case;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::colors::colormaps::ViridisRGB;
@@ -94,7 +96,7 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
 
 /// The top of the colour scale: the 99th percentile of the plastic strain (a few particles at
 /// the plate edges would otherwise wash out the folds), at least 1e-6.
-pub fn strain_scale(strain: &[f32]) -> f64 {
+fn strain_scale(strain: &[f32]) -> f64 {
     strain_percentile(strain).max(MIN_SCALE)
 }
 
@@ -109,6 +111,22 @@ fn strain_percentile(strain: &[f32]) -> f64 {
     let k = ((finite.len() - 1) as f64 * 0.99).round() as usize;
     let (_, top, _) = finite.select_nth_unstable_by(k, f32::total_cmp);
     *top as f64
+}
+
+/// The picture of a case's tube in its final state (`title` over it), as PNG bytes.
+pub fn tube_png(
+    case: &Case,
+    title: &str,
+    position_mm: &[[f32; 3]],
+    plastic_strain: &[f32],
+) -> anyhow::Result<Vec<u8>> {
+    shape_png(&TubeShape {
+        title,
+        position_mm,
+        plastic_strain,
+        spacing_mm: case.spacing_mm(),
+        axis_x: case.spec().loading.mode == LoadingMode::Lateral,
+    })
 }
 
 /// The picture as PNG bytes.

@@ -3,7 +3,7 @@
 //! 409 for one that has not succeeded.
 
 use super::{csv_response, parse_id, wants_csv, AppState};
-use crate::plot::{self, Series, TubeShape};
+use crate::plot::{self, Series};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
@@ -130,16 +130,9 @@ pub async fn shape_png(
 ) -> Result<Response, ApiError> {
     let (record, case, state) = final_state(&s, &id, "picture").await?;
     let title = format!("{} — final shape", title(&record));
-    let png = render(move || {
-        plot::shape_png(&TubeShape {
-            title: &title,
-            position_mm: &state.position_mm,
-            plastic_strain: &state.plastic_strain,
-            spacing_mm: case.spacing_mm(),
-            axis_x: case.spec().loading.mode == crate::solver::case::LoadingMode::Lateral,
-        })
-    })
-    .await?;
+    let png =
+        render(move || plot::tube_png(&case, &title, &state.position_mm, &state.plastic_strain))
+            .await?;
     Ok((
         [
             (header::CONTENT_TYPE, "image/png"),
