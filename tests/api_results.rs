@@ -145,8 +145,26 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
         }
     }
     assert!(named >= 4, "{named} assets named");
-    let js = get(&app, "/assets/app.js").await.text().await.unwrap();
-    assert!(!js.contains("http://") && !js.contains("https://"));
+    // app.js imports the page's other modules: each is served, and none reaches elsewhere.
+    let app_js = get(&app, "/assets/app.js").await.text().await.unwrap();
+    let modules: Vec<String> = app_js
+        .split("from \"./")
+        .skip(1)
+        .map(|rest| rest[..rest.find('"').unwrap()].to_string())
+        .collect();
+    assert!(modules.len() >= 4, "{modules:?}");
+    for name in std::iter::once("app.js".to_string()).chain(modules) {
+        let r = get(&app, &format!("/assets/{name}")).await;
+        assert_eq!(r.status(), 200, "{name}");
+        let js = r.text().await.unwrap();
+        assert!(
+            !js.contains("http://") && !js.contains("https://"),
+            "{name}"
+        );
+        for import in js.split("from \"").skip(1) {
+            assert!(import.starts_with("./"), "{name} imports {import:.40}");
+        }
+    }
     assert_eq!(get(&app, "/assets/nothing.js").await.status(), 404);
 
     let fields = get_json(&app.client, &app.at("/v1/case/fields")).await;

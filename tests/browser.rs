@@ -355,6 +355,9 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     shot(&c, &shots, "4-job-done").await;
     c.set_window_size(1500, 1400).await.unwrap();
 
+    let errors = js(&c, "return window.__errors;").await;
+    assert_eq!(errors, json!([]), "uncaught errors in the page");
+
     // A resolution sweep from the form: overlaid curves, the table, and the convergence view.
     c.goto(&format!("{}/#/", app.url)).await.unwrap();
     until(
@@ -402,5 +405,8 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     )
     .await;
     shot(&c, &shots, "6-convergence").await;
+    // The page threw nothing along the way (on this page load: the sweep's).
+    let errors = js(&c, "return window.__errors;").await;
+    assert_eq!(errors, json!([]), "uncaught errors in the page");
     c.close().await.unwrap();
 }

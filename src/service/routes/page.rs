@@ -8,13 +8,17 @@ use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 
-/// (name, content type, bytes) of every asset.
+const JS: &str = "text/javascript; charset=utf-8";
+
+/// (name, content type, bytes) of every asset: the page's modules (`app.js` imports the rest),
+/// its stylesheet, and uPlot.
 const ASSETS: &[(&str, &str, &str)] = &[
-    (
-        "app.js",
-        "text/javascript; charset=utf-8",
-        include_str!("../../../web/app.js"),
-    ),
+    ("app.js", JS, include_str!("../../../web/app.js")),
+    ("util.js", JS, include_str!("../../../web/util.js")),
+    ("list.js", JS, include_str!("../../../web/list.js")),
+    ("form.js", JS, include_str!("../../../web/form.js")),
+    ("job.js", JS, include_str!("../../../web/job.js")),
+    ("sweep.js", JS, include_str!("../../../web/sweep.js")),
     (
         "app.css",
         "text/css; charset=utf-8",
@@ -22,7 +26,7 @@ const ASSETS: &[(&str, &str, &str)] = &[
     ),
     (
         "uplot.min.js",
-        "text/javascript; charset=utf-8",
+        JS,
         include_str!("../../../web/vendor/uplot-1.6.32.min.js"),
     ),
     (

@@ -1,0 +1,235 @@
+// crush web page: the case form, built from GET /v1/case/fields; the browser checks each field, the server the whole case (POST /v1/estimate), and refusals show beside their fields.
+import { api, el, seconds } from "./util.js";
+import { refreshJobList } from "./list.js";
+
+// ---------- the case form ----------
+
+let FIELDS = null;
+const fieldId = (f) => "f-" + f.replaceAll(".", "-");
+
+export async function loadFields() {
+  if (FIELDS) return FIELDS;
+  const r = await api("GET", "/v1/case/fields");
+  if (!r.ok) throw new Error("could not load the form: " + (r.data && r.data.detail));
+  FIELDS = r.data;
+  return FIELDS;
+}
+
+function inputFor(f) {
+  const common = { id: fieldId(f.field), name: f.field, "data-field": f.field, "aria-describedby": "err-" + fieldId(f.field) };
+  if (f.kind === "choice") {
+    return el("select", common, f.choices.map((c) => el("option", { value: c, selected: c === f.default }, c)));
+  }
+  if (f.kind === "boolean") {
+    return el("input", { ...common, type: "checkbox", checked: f.default === true });
+  }
+  if (f.kind === "text") {
+    return el("input", { ...common, type: "text", maxlength: "200", value: f.default || "" });
+  }
+  return el("input", {
+    ...common, type: "number", step: f.kind === "integer" ? "1" : "any",
+    min: f.min, max: f.max, required: !f.optional,
+    value: f.default === null || f.default === undefined ? "" : String(f.default),
+    placeholder: f.optional ? "auto" : null,
+  });
+}
+
+/// What the browser can tell about one field on its own; "" when nothing is wrong.
+function clientCheck(f, input) {
+  if (f.kind === "choice" || f.kind === "boolean") return "";
+  const raw = input.value.trim();
+  if (f.kind === "text") return raw.length > 200 ? "must be at most 200 characters" : "";
+  if (raw === "") return f.optional ? "" : "is required";
+  const v = Number(raw);
+  if (!Number.isFinite(v) || input.validity.badInput) return "must be a number";
+  if (f.kind === "integer" && !Number.isInteger(v)) return "must be an integer";
+  if (f.min !== undefined && (f.min_exclusive ? v <= f.min : v < f.min)) {
+    return `must be ${f.min_exclusive ? ">" : ">="} ${f.min}`;
+  }
+  if (f.max !== undefined && (f.max_exclusive ? v >= f.max : v > f.max)) {
+    return `must be ${f.max_exclusive ? "<" : "<="} ${f.max}`;
+  }
+  return "";
+}
+
+function showFieldError(field, message, source) {
+  const row = document.querySelector(`.field[data-row="${field}"]`);
+  const target = row ? row.querySelector(".err") : document.getElementById("form-error");
+  if (!target) return;
+  if (row) {
+    row.classList.toggle("invalid", !!message);
+    const input = row.querySelector("input, select");
+    if (input) input.setAttribute("aria-invalid", message ? "true" : "false");
+  }
+  target.textContent = message ? `${row ? "" : field + " "}${message}` : "";
+  target.dataset.source = message ? source : "";
+}
+
+function clearErrors(source) {
+  for (const e of document.querySelectorAll(".field .err")) {
+    if (!source || e.dataset.source === source) {
+      e.textContent = "";
+      e.dataset.source = "";
+      e.closest(".field").classList.remove("invalid");
+    }
+  }
+  const general = document.getElementById("form-error");
+  if (general) general.textContent = "";
+}
+
+/// Server problems (RFC 9457) beside their fields; returns how many were shown.
+function showProblem(data) {
+  clearErrors("server");
+  if (!data) return 0;
+  let shown = 0;
+  const errors = data.errors || (data.field ? [{ field: data.field, reason: data.detail }] : []);
+  for (const e of errors) {
+    const field = e.field.replace(/^base\./, "").replace(/^parameters(\..*)?$/, "parameters");
+    const row = document.querySelector(`.field[data-row="${field}"]`);
+    if (row && row.querySelector(".err").dataset.source === "client") continue;
+    showFieldError(field, e.reason, "server");
+    shown++;
+  }
+  if (!errors.length) {
+    document.getElementById("form-error").textContent = data.detail || "the server refused the case";
+    shown++;
+  }
+  return shown;
+}
+
+function readCase() {
+  const c = {};
+  for (const f of FIELDS) {
+    const input = document.getElementById(fieldId(f.field));
+    let v;
+    if (f.kind === "boolean") v = input.checked;
+    else if (f.kind === "choice") v = input.value;
+    else if (f.kind === "text") { v = input.value.trim(); if (!v) continue; }
+    else { if (input.value.trim() === "") continue; v = Number(input.value); }
+    const parts = f.field.split(".");
+    let at = c;
+    for (const p of parts.slice(0, -1)) at = at[p] = at[p] || {};
+    at[parts[parts.length - 1]] = v;
+  }
+  return c;
+}
+
+function checkAll() {
+  let first = null;
+  for (const f of FIELDS) {
+    const input = document.getElementById(fieldId(f.field));
+    const message = clientCheck(f, input);
+    const err = document.querySelector(`.field[data-row="${f.field}"] .err`);
+    if (message) showFieldError(f.field, message, "client");
+    else if (err.dataset.source === "client") showFieldError(f.field, "", "");
+    if (message && !first) first = input;
+  }
+  return first;
+}
+
+let estimateTimer = null;
+let estimateSeq = 0;
+function scheduleEstimate() {
+  clearTimeout(estimateTimer);
+  estimateTimer = setTimeout(async () => {
+    const out = document.getElementById("estimate");
+    if (!out) return;
+    if (checkAll()) { out.textContent = ""; return; }
+    const seq = ++estimateSeq;
+    const r = await api("POST", "/v1/estimate", readCase());
+    if (seq !== estimateSeq || !document.getElementById("estimate")) return;
+    if (r.ok) {
+      showProblem(null);
+      const e = r.data;
+      out.textContent = `${e.particles.toLocaleString()} particles, ${e.steps.toLocaleString()} steps, ` +
+        `about ${seconds(e.wall_time_s)} on ${e.threads} thread${e.threads === 1 ? "" : "s"}, ` +
+        `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB`;
+    } else {
+      out.textContent = "";
+      showProblem(r.data);
+    }
+  }, 350);
+}
+
+export async function renderForm(main) {
+  const fields = await loadFields();
+  const groups = new Map();
+  for (const f of fields) {
+    const g = f.field.includes(".") ? f.field.split(".")[0] : "case";
+    if (!groups.has(g)) groups.set(g, []);
+    groups.get(g).push(f);
+  }
+  const numeric = fields.filter((f) => f.kind === "number" || f.kind === "integer");
+  const form = el("form", { id: "case-form", novalidate: true },
+    [...groups].map(([g, fs]) => el("fieldset", {}, el("legend", {}, g),
+      fs.map((f) => el("div", { class: "field", "data-row": f.field },
+        el("label", { for: fieldId(f.field), title: f.field }, f.label),
+        inputFor(f),
+        el("span", { class: "unit" }, f.unit),
+        el("span", { class: "hint" },
+          f.default === null || f.default === undefined ? "" : `default ${f.default}`,
+          f.help ? (f.default === null || f.default === undefined ? "" : " · ") + f.help : ""),
+        el("div", { class: "err", id: "err-" + fieldId(f.field), role: "alert", "data-source": "" }))))),
+    el("fieldset", {}, el("legend", {}, "sweep (optional)"),
+      el("div", { class: "field", "data-row": "parameters" },
+        el("label", { for: "sweep-field" }, "Vary this field"),
+        el("select", { id: "sweep-field" }, el("option", { value: "" }, "(no sweep)"),
+          numeric.map((f) => el("option", { value: f.field }, f.field))),
+        el("span"),
+        el("span", { class: "hint" }, "One job per value. Varying discretization.particles_through_thickness gives the convergence view."),
+        el("div", { class: "err", "data-source": "" })),
+      el("div", { class: "field" },
+        el("label", { for: "sweep-values" }, "Values"),
+        el("input", { id: "sweep-values", type: "text", placeholder: "e.g. 2, 3, 4" }),
+        el("span"), el("span", { class: "hint" }, "Comma-separated numbers."))),
+    el("div", { class: "actions" },
+      el("button", { type: "submit", id: "submit" }, "Run"),
+      el("button", { type: "button", class: "secondary", id: "reset", onclick: () => renderForm(document.getElementById("main")) }, "Defaults"),
+      el("span", { id: "estimate" })),
+    el("p", { class: "form-error", id: "form-error" }));
+  main.replaceChildren(el("h1", {}, "New crush case"),
+    el("p", { class: "muted" }, "Every field shows its unit and default. The browser checks each value as you type; the server checks the whole case and its cost."),
+    form);
+  form.addEventListener("input", (e) => {
+    const name = e.target.dataset.field;
+    const f = name && FIELDS.find((x) => x.field === name);
+    if (f) {
+      const message = clientCheck(f, e.target);
+      showFieldError(f.field, message, message ? "client" : "");
+    }
+    scheduleEstimate();
+  });
+  form.addEventListener("submit", submitForm);
+  scheduleEstimate();
+}
+
+async function submitForm(e) {
+  e.preventDefault();
+  const button = document.getElementById("submit");
+  const first = checkAll();
+  if (first) { first.focus(); return; }
+  const c = readCase();
+  const sweepField = document.getElementById("sweep-field").value;
+  button.disabled = true;
+  try {
+    if (sweepField) {
+      const raw = document.getElementById("sweep-values").value.split(",").map((s) => s.trim()).filter(Boolean);
+      const values = raw.map(Number);
+      if (!values.length || values.some((v) => !Number.isFinite(v))) {
+        showFieldError("parameters", "give the values as comma-separated numbers", "client");
+        return;
+      }
+      const body = { base: c, parameters: { [sweepField]: values } };
+      if (c.label) body.label = c.label;
+      const r = await api("POST", "/v1/sweeps", body);
+      if (r.ok) { location.hash = `#/sweeps/${r.data.id}`; refreshJobList(); }
+      else showProblem(r.data);
+    } else {
+      const r = await api("POST", "/v1/jobs", c);
+      if (r.ok) { location.hash = `#/jobs/${r.data.id}`; refreshJobList(); }
+      else showProblem(r.data);
+    }
+  } finally {
+    button.disabled = false;
+  }
+}

@@ -1,0 +1,194 @@
+// crush web page: one job — live load curve, summary against the closed-form references, the case, the deformed tube, downloads.
+import { api, el, fmt, isLive, jobName, kN, lineChart, modeName, onLeave, pct, seconds } from "./util.js";
+import { loadFields } from "./form.js";
+
+// ---------- job view ----------
+
+function summaryTable(s) {
+  const rows = [
+    ["Mean collapse load", kN(s.mean_load_n)],
+    ["Peak load", kN(s.peak_load_n)],
+    ["Energy absorbed", fmt(s.energy_absorbed_mj / 1000) + " J"],
+    ["Crush distance", fmt(s.crush_distance_mm) + " mm"],
+    ["Collapse mode", modeName(s.mode)],
+    ["Folds (load drops)", s.folds],
+    ["Energy-balance error", pct(s.energy_balance_error)],
+    ["Particles", s.cost.particles.toLocaleString()],
+    ["Steps", s.cost.steps.toLocaleString()],
+    ["Δt", `${fmt(s.cost.dt_min_ms * 1000)} – ${fmt(s.cost.dt_max_ms * 1000)} µs`],
+    ["Wall time", seconds(s.cost.wall_time_s) + ` (${fmt(s.cost.particle_steps_per_s / 1e6)} M particle-steps/s, ${s.cost.threads} threads)`],
+  ];
+  return el("table", { id: "summary" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", { class: "num" }, v)))));
+}
+
+function referenceTable(s, lateral) {
+  const r = s.references;
+  const mean = s.mean_load_n;
+  const row = (name, value, primary) => {
+    const ratio = value > 0 ? mean / value : null;
+    const cls = ratio === null ? "" : Math.abs(ratio - 1) <= 0.25 ? "good" : "off";
+    return el("tr", {}, el("td", {}, name, primary ? el("strong", {}, " (primary)") : ""),
+      el("td", { class: "num" }, value > 0 ? kN(value) : "–"),
+      el("td", { class: "num ratio " + cls }, ratio === null ? "–" : ratio.toFixed(2)));
+  };
+  // Only the references of this loading: a lateral formula says nothing of an axial run.
+  const rows = lateral
+    ? [
+      row("DeRuntz & Hodge (1963), mean over the crush", r.deruntz_hodge_mean_n || 0, true),
+      row("DeRuntz & Hodge (1963), at first contact", r.deruntz_hodge_initial_n, false),
+    ]
+    : [
+      row("Alexander (1960), ring", r.alexander_ring_n, true),
+      ...r.diamond.map((d) => row(`Johnson et al. (1977), diamond n = ${d.lobes}`, d.travelling_n, false)),
+      row("Euler, clamped ends (global buckling)", r.euler_clamped_n, false),
+    ];
+  return el("table", { id: "references" },
+    el("thead", {}, el("tr", {}, el("th", {}, "closed-form reference"), el("th", { class: "num" }, "load"), el("th", { class: "num" }, "run mean / reference"))),
+    el("tbody", {}, rows));
+}
+
+/// The form's field list, for the defaults of what a case leaves out.
+let fields = [];
+
+/// The case's main numbers, defaults filled in from the form's field list.
+function caseTable(c) {
+  const value = (field) => {
+    let v = c;
+    for (const p of field.split(".")) v = v === undefined || v === null ? undefined : v[p];
+    if (v !== undefined) return v;
+    const f = fields.find((x) => x.field === field);
+    return f ? f.default : undefined;
+  };
+  const rows = [
+    ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
+    ["Material", `E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, σy ${value("material.yield_stress_mpa")} MPa`],
+    ["Loading", `${value("loading.mode")}, ${value("loading.plate_speed_m_s")} m/s, ` +
+      (value("loading.crush_distance_mm") === null || value("loading.crush_distance_mm") === undefined ? "default distance" : `${value("loading.crush_distance_mm")} mm`)],
+    ["Particles through the wall", `${value("discretization.particles_through_thickness")} (${value("discretization.shape")})`],
+    ["Trigger", `${value("trigger.weak_fraction")} weak`],
+  ];
+  return el("table", { id: "case-table" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", {}, v)))));
+}
+
+export async function renderJob(main, id) {
+  fields = (await loadFields().catch(() => null)) || [];
+  const r = await api("GET", `/v1/jobs/${id}`);
+  if (!r.ok) { main.replaceChildren(el("h1", {}, "Job not found"), el("p", {}, r.data && r.data.detail)); return; }
+  let job = r.data;
+  const status = el("span", { class: "badge " + job.status, id: "job-status" }, job.status);
+  const bar = el("progress", { id: "job-progress", max: "1", value: String(job.status === "succeeded" ? 1 : (job.progress && job.progress.fraction) || 0) });
+  const barText = el("span", { id: "job-progress-text", class: "muted" });
+  const cancel = el("button", { class: "secondary", id: "cancel", onclick: async () => {
+    const c = await api("POST", `/v1/jobs/${id}/cancel`);
+    if (!c.ok) barText.textContent = c.data.detail;
+  } }, "Cancel");
+  const chartBox = el("div", { class: "chart", id: "curve" });
+  const side = el("div", { id: "job-side" });
+  const below = el("div", { id: "job-below" });
+  main.replaceChildren(
+    el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null),
+    el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}`,
+      job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
+    el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
+    below);
+  side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}));
+  const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
+  const live = [[], [], []]; // the fixed plate's load comes with the stored history only
+  let redraw = null;
+  onLeave(() => clearTimeout(redraw));
+  const showProgress = (p) => {
+    bar.value = p.fraction;
+    barText.textContent = `${Math.round(100 * p.fraction)} % · step ${p.step.toLocaleString()} · ` +
+      `${fmt(p.displacement_mm)} mm · ${kN(p.load_n)} · ${seconds(p.elapsed_s)} elapsed, ${seconds(p.eta_s)} to go`;
+  };
+  const finish = async () => {
+    const j = await api("GET", `/v1/jobs/${id}`);
+    if (!j.ok) return;
+    job = j.data;
+    status.className = "badge " + job.status;
+    status.textContent = job.status;
+    cancel.remove();
+    clearTimeout(redraw);
+    redraw = -1; // no more live redraws
+    if (job.status === "succeeded") {
+      bar.value = 1;
+      barText.textContent = "done";
+      await showResult(job, set, side, below);
+    } else {
+      barText.textContent = job.error || job.status;
+    }
+  };
+  if (isLive(job.status)) {
+    if (job.progress) showProgress(job.progress);
+    const es = new EventSource(`/v1/jobs/${id}/events`);
+    onLeave(() => es.close());
+    es.addEventListener("status", (e) => {
+      const s = JSON.parse(e.data);
+      if (s.status) { status.textContent = s.status; status.className = "badge " + s.status; }
+    });
+    es.addEventListener("progress", (e) => {
+      const p = JSON.parse(e.data);
+      if (typeof p.fraction !== "number") return;
+      showProgress(p);
+      const n = live[0].length;
+      if (n && p.displacement_mm <= live[0][n - 1]) return; // a restarted attempt
+      live[0].push(p.displacement_mm);
+      live[1].push(p.load_n / 1000);
+      live[2].push(null);
+      // Redraw at most four times a second, whatever the history's resolution.
+      if (!redraw) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
+    });
+    for (const end of ["done", "failed", "cancelled"]) {
+      es.addEventListener(end, () => { es.close(); finish(); });
+    }
+    // A stream the server refused (too many open, say) is not retried by the browser: poll.
+    es.onerror = () => {
+      if (es.readyState !== EventSource.CLOSED) return;
+      const poll = setInterval(async () => {
+        const j = await api("GET", `/v1/jobs/${id}`);
+        if (!j.ok) return;
+        if (j.data.progress) showProgress(j.data.progress);
+        if (!isLive(j.data.status)) { clearInterval(poll); finish(); }
+      }, 2000);
+      onLeave(() => clearInterval(poll));
+    };
+  } else {
+    await finish();
+  }
+}
+
+async function showResult(job, set, side, below) {
+  const h = await api("GET", `/v1/jobs/${job.id}/history`);
+  if (h.ok) {
+    const u = h.data.columns.indexOf("displacement_mm");
+    const p = h.data.columns.indexOf("load_top_n");
+    const b = h.data.columns.indexOf("load_bottom_n");
+    set([h.data.rows.map((r) => r[u]), h.data.rows.map((r) => r[p] / 1000), h.data.rows.map((r) => r[b] / 1000)]);
+  }
+  const s = job.summary;
+  const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
+  side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Against closed-form references"),
+    referenceTable(s, lateral),
+    el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
+      lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
+    el("h2", {}, "Case"), caseTable(job.case || {}));
+  const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
+  below.replaceChildren(
+    el("h2", {}, "Deformed tube, coloured by plastic strain"),
+    keepsState
+      ? el("div", { class: "shape" }, el("img", {
+        id: "shape", src: job.links.shape, alt: "final shape of the tube: side, oblique and section views",
+        onerror: async (e) => {
+          const r = await api("GET", job.links.shape);
+          e.target.replaceWith(el("p", { class: "muted" }, (r.data && r.data.detail) || "No picture."));
+        },
+      }))
+      : el("p", { class: "muted" }, "This case did not keep its final state (output.final_state = false)."),
+    el("h2", {}, "Downloads"),
+    el("p", { class: "downloads" },
+      el("a", { href: job.links.history + "?format=csv", download: `${job.id}-history.csv` }, "history (CSV)"),
+      el("a", { href: job.links.summary, download: `${job.id}-summary.json` }, "summary (JSON)"),
+      keepsState ? el("a", { href: job.links.state, download: `${job.id}.vtu` }, "final particle state (VTU, ParaView)") : null,
+      el("a", { href: job.links.plot, download: `${job.id}-load.svg` }, "load curve (SVG)")),
+    el("details", {}, el("summary", {}, "Case as submitted"), el("pre", {}, JSON.stringify(job.case, null, 2))));
+}

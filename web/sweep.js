@@ -1,0 +1,106 @@
+// crush web page: a sweep — its runs' load curves overlaid, its table, and for a resolution sweep the convergence view (error against run time).
+import { align, api, el, fmt, isLive, kN, lineChart, onLeave, pct, seconds, short } from "./util.js";
+
+// ---------- sweep view (and convergence) ----------
+
+const historyCache = new Map();
+async function historyOf(id) {
+  if (historyCache.has(id)) return historyCache.get(id);
+  const h = await api("GET", `/v1/jobs/${id}/history`);
+  if (!h.ok) return null;
+  const u = h.data.columns.indexOf("displacement_mm");
+  const p = h.data.columns.indexOf("load_top_n");
+  const pts = h.data.rows.map((r) => [r[u], r[p] / 1000]);
+  historyCache.set(id, pts);
+  return pts;
+}
+
+function cell(column, value) {
+  if (column === "job_id") return el("td", {}, el("a", { href: `#/jobs/${value}` }, String(value).slice(0, 8)));
+  if (column === "status") return el("td", {}, el("span", { class: "badge " + value }, value));
+  if (value === null || value === undefined) return el("td", { class: "num" }, "–");
+  if (column.endsWith("_n")) return el("td", { class: "num" }, kN(value));
+  if (column.endsWith("_mj")) return el("td", { class: "num" }, fmt(value / 1000) + " J");
+  if (column.includes("error") || column === "mean_vs_reference") return el("td", { class: "num" }, pct(value));
+  if (column === "wall_time_s") return el("td", { class: "num" }, seconds(value));
+  if (column === "mode") return el("td", {}, value);
+  return el("td", { class: "num" }, typeof value === "number" ? fmt(value) : String(value));
+}
+
+export async function renderSweep(main, id) {
+  const first = await api("GET", `/v1/sweeps/${id}`);
+  if (!first.ok) { main.replaceChildren(el("h1", {}, "Sweep not found"), el("p", {}, first.data && first.data.detail)); return; }
+  const fields = first.data.parameters.map((p) => p[0]);
+  const curveBox = el("div", { class: "chart", id: "sweep-curves" });
+  const tableBox = el("div", { id: "sweep-table" });
+  const convBox = el("div", { id: "convergence" });
+  const countsText = el("span", { class: "muted", id: "sweep-counts" });
+  main.replaceChildren(
+    el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText),
+    el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id}`),
+    el("h2", {}, "Load curves"), curveBox, el("h2", {}, "Runs"), tableBox, convBox);
+  const rowName = (row) => fields.map((f) => `${short(f)} = ${row[f]}`).join(", ");
+  let chart = null;
+  let drawn = "";
+  let convChart = null;
+  let timer = null;
+  const update = async () => {
+    const r = await api("GET", `/v1/sweeps/${id}`);
+    if (!r.ok || !document.body.contains(curveBox)) return;
+    const v = r.data;
+    countsText.textContent = Object.entries(v.counts).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(" · ");
+    tableBox.replaceChildren(el("div", { class: "scroll" }, el("table", {},
+      el("thead", {}, el("tr", {}, v.columns.map((c) => el("th", {}, c.replaceAll("_", " "))))),
+      el("tbody", {}, v.rows.map((row) => el("tr", {}, v.columns.map((c) => cell(c, row[c]))))))));
+    const done = v.rows.filter((row) => row.status === "succeeded");
+    const key = done.map((row) => row.job_id).join();
+    if (key && key !== drawn) {
+      drawn = key;
+      const curves = await Promise.all(done.map((row) => historyOf(row.job_id)));
+      if (chart) chart.chart.destroy();
+      curveBox.replaceChildren();
+      chart = lineChart(curveBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: done.map(rowName) });
+      chart.set(align(curves.map((c) => c || [])));
+      if (v.convergence) convChart = renderConvergence(convBox, v.convergence, convChart);
+    }
+    if (v.rows.some((row) => isLive(row.status))) timer = setTimeout(update, 2000);
+  };
+  onLeave(() => clearTimeout(timer));
+  await update();
+}
+
+function renderConvergence(box, groups, old) {
+  if (old) old.chart.destroy();
+  const series = [];
+  const names = [];
+  for (const g of groups) {
+    const label = g.group ? ` (${g.group})` : "";
+    const finest = g.rows.filter((r) => r.mean_error_vs_finest !== 0).map((r) => [r.wall_time_s, Math.abs(r.mean_error_vs_finest) * 100]);
+    const rich = g.rows.filter((r) => r.mean_error_vs_richardson !== null).map((r) => [r.wall_time_s, Math.abs(r.mean_error_vs_richardson) * 100]);
+    if (finest.length) { series.push(finest); names.push("vs finest run, %" + label); }
+    if (rich.length) { series.push(rich); names.push("vs Richardson extrapolation, %" + label); }
+  }
+  const chartBox = el("div", { class: "chart", id: "convergence-chart" });
+  const tables = groups.map((g) => {
+    const ex = g.mean_extrapolation;
+    return el("div", {},
+      g.group ? el("h3", {}, g.group) : null,
+      el("table", {},
+        el("thead", {}, el("tr", {}, ["n", "particles", "steps", "wall time", "mean load", "error vs finest", "error vs Richardson", "vs reference"].map((c) => el("th", {}, c)))),
+        el("tbody", {}, g.rows.map((r) => el("tr", {},
+          el("td", { class: "num" }, r.n), el("td", { class: "num" }, r.particles.toLocaleString()),
+          el("td", { class: "num" }, r.steps.toLocaleString()), el("td", { class: "num" }, seconds(r.wall_time_s)),
+          el("td", { class: "num" }, kN(r.mean_load_n)), el("td", { class: "num" }, pct(r.mean_error_vs_finest)),
+          el("td", { class: "num" }, pct(r.mean_error_vs_richardson)), el("td", { class: "num" }, pct(r.mean_vs_reference)))))),
+      el("p", { class: "small muted" }, ex
+        ? `Richardson extrapolation of the mean load: ${kN(ex.value)}, observed order p = ${fmt(ex.order)}` + (ex.trustworthy ? "." : " — not trusted (not monotone, or p outside [0.5, 4]); errors are against the finest run.")
+        : g.rows.length < 3
+          ? "Too few resolutions for a Richardson extrapolation (it needs three)."
+          : "No Richardson extrapolation: the three finest runs do not converge monotonically. Errors are against the finest run."));
+  });
+  box.replaceChildren(el("h2", {}, "Convergence: error against run time"), chartBox, ...tables);
+  if (!series.length) { chartBox.append(el("p", { class: "muted" }, "Needs at least two succeeded resolutions.")); return null; }
+  const c = lineChart(chartBox, { xLabel: "wall time, s", yLabel: "mean-load error, %", names, log: true });
+  c.set(align(series));
+  return c;
+}

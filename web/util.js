@@ -1,0 +1,117 @@
+// crush web page: small helpers — DOM building, the API, number formats, the view's cleanup list, uPlot charts.
+// ---------- small helpers ----------
+
+export function el(tag, attrs, ...kids) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs || {})) {
+    if (v === null || v === undefined || v === false) continue;
+    if (k === "class") e.className = v;
+    else if (k.startsWith("on")) e.addEventListener(k.slice(2), v);
+    else e.setAttribute(k, v === true ? "" : v);
+  }
+  for (const kid of kids.flat()) {
+    if (kid === null || kid === undefined) continue;
+    e.append(kid instanceof Node ? kid : document.createTextNode(String(kid)));
+  }
+  return e;
+}
+
+export async function api(method, path, body) {
+  const init = { method, headers: { Accept: "application/json" } };
+  if (body !== undefined) {
+    init.headers["Content-Type"] = "application/json";
+    init.body = JSON.stringify(body);
+  }
+  let res;
+  try {
+    res = await fetch(path, init);
+  } catch (e) {
+    return { ok: false, status: 0, data: { detail: "the server does not answer: " + e.message } };
+  }
+  let data = null;
+  const text = await res.text();
+  try { data = text ? JSON.parse(text) : null; } catch (_) { data = { detail: text }; }
+  return { ok: res.ok, status: res.status, data };
+}
+
+export const kN = (n) => (n === null || n === undefined ? "–" : (n / 1000).toFixed(2) + " kN");
+export const fmt = (v, digits = 3) => {
+  if (v === null || v === undefined) return "–";
+  if (typeof v !== "number") return String(v);
+  if (v !== 0 && (Math.abs(v) >= 1e5 || Math.abs(v) < 1e-3)) return v.toExponential(2);
+  return Number(v.toPrecision(digits + 1)).toString();
+};
+export const pct = (v) => (v === null || v === undefined ? "–" : (100 * v).toFixed(1) + " %");
+export const seconds = (s) => {
+  if (s === null || s === undefined || !isFinite(s)) return "–";
+  if (s < 1) return s.toPrecision(2) + " s";
+  if (s < 90) return s.toFixed(1) + " s";
+  if (s < 5400) return (s / 60).toFixed(1) + " min";
+  return (s / 3600).toFixed(1) + " h";
+};
+export const modeName = (m) => {
+  if (!m) return "–";
+  if (m.kind === "diamond") return `diamond, ${m.lobes} lobes`;
+  return m.kind.replace("_", " ");
+};
+// Short names of the fields most often swept, as the design page writes them.
+const SHORT = {
+  "discretization.particles_through_thickness": "n", "tube.thickness_mm": "t", "tube.mean_diameter_mm": "d",
+  "tube.length_mm": "l", "loading.plate_speed_m_s": "v", "contact.friction": "μ",
+};
+export const short = (f) => SHORT[f] || f.split(".").pop();
+export const sweepValues = (j) => Object.entries(j.sweep_values || {}).map(([f, v]) => `${short(f)} = ${v}`).join(", ");
+export const jobName = (j) => {
+  const name = j.label || j.id.slice(0, 8);
+  return j.sweep_values ? `${name} (${sweepValues(j)})` : name;
+};
+export const isLive = (status) => status === "queued" || status === "running";
+
+// Things the current view opened (event streams, timers, charts); closed on navigation.
+let viewCleanup = [];
+export function onLeave(f) { viewCleanup.push(f); }
+export function leaveView() {
+  for (const f of viewCleanup) { try { f(); } catch (_) { /* already closed */ } }
+  viewCleanup = [];
+}
+
+// ---------- charts (uPlot) ----------
+
+const PALETTE = ["#1f5fbf", "#d9480f", "#2b8a3e", "#862e9c", "#c92a2a", "#0b7285", "#e67700", "#5c940d", "#364fc7", "#a61e4d"];
+
+export function lineChart(container, { xLabel, yLabel, names, log }) {
+  const width = Math.max(320, container.clientWidth || 600);
+  const opts = {
+    width, height: 320,
+    scales: { x: { time: false, distr: log ? 3 : 1 }, y: { distr: log ? 3 : 1 } },
+    axes: [{ label: xLabel }, { label: yLabel }],
+    series: [{ label: xLabel }].concat(names.map((n, i) => ({
+      label: n, stroke: PALETTE[i % PALETTE.length], width: 2, spanGaps: true,
+      points: { show: log },
+    }))),
+    legend: { live: false },
+  };
+  const data = [[]].concat(names.map(() => []));
+  const chart = new uPlot(opts, data, container);
+  const set = (d) => {
+    chart.setData(d);
+    container.dataset.points = String(d[0].length);
+  };
+  container.dataset.points = "0";
+  container.dataset.series = String(names.length);
+  onLeave(() => chart.destroy());
+  return { chart, set };
+}
+
+/// Several (x, y) series on one x axis: the union of the x values, nulls elsewhere.
+export function align(seriesList) {
+  const xs = [...new Set(seriesList.flatMap((s) => s.map((p) => p[0])))].sort((a, b) => a - b);
+  const index = new Map(xs.map((x, i) => [x, i]));
+  const data = [xs];
+  for (const s of seriesList) {
+    const ys = new Array(xs.length).fill(null);
+    for (const [x, y] of s) ys[index.get(x)] = y;
+    data.push(ys);
+  }
+  return data;
+}
