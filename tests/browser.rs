@@ -358,6 +358,18 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     let errors = js(&c, "return window.__errors;").await;
     assert_eq!(errors, json!([]), "uncaught errors in the page");
 
+    // "New case from this one" opens the form filled with this job's case.
+    click(&c, "#reuse").await;
+    until(
+        &c,
+        "const i = document.querySelector('#f-tube-length_mm'); return i && i.value === '40';",
+        long,
+        "the form filled from the job",
+    )
+    .await;
+    let label = js(&c, "return document.querySelector('#f-label').value;").await;
+    assert_eq!(label, "browser: axial t3.2 n2");
+
     // A resolution sweep from the form: overlaid curves, the table, and the convergence view.
     c.goto(&format!("{}/#/", app.url)).await.unwrap();
     until(

@@ -23,6 +23,7 @@ async function renderRoute() {
   try {
     if ((m = hash.match(/^#\/jobs\/([0-9a-f-]{36})$/))) await renderJob(main, m[1]);
     else if ((m = hash.match(/^#\/sweeps\/([0-9a-f-]{36})$/))) await renderSweep(main, m[1]);
+    else if ((m = hash.match(/^#\/new\/([0-9a-f-]{36})$/))) await renderForm(main, m[1]);
     else await renderForm(main);
   } catch (e) {
     main.replaceChildren(el("h1", {}, "Something went wrong"), el("p", {}, String(e)));

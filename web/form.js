@@ -151,7 +151,8 @@ function scheduleEstimate() {
   }, 350);
 }
 
-export async function renderForm(main) {
+/// The form, empty (defaults) or filled with the case of job `fromJob`.
+export async function renderForm(main, fromJob) {
   const fields = await loadFields();
   const groups = new Map();
   for (const f of fields) {
@@ -200,7 +201,24 @@ export async function renderForm(main) {
     scheduleEstimate();
   });
   form.addEventListener("submit", submitForm);
+  if (fromJob) await fillFromJob(fromJob);
   scheduleEstimate();
+}
+
+/// Fills the form with a job's case as submitted; what it left out keeps its default.
+async function fillFromJob(id) {
+  const r = await api("GET", `/v1/jobs/${id}`);
+  const note = document.getElementById("form-error");
+  if (!r.ok || !r.data.case) { note.textContent = `Could not read job ${id}: ${r.data && r.data.detail}`; return; }
+  for (const f of FIELDS) {
+    let v = r.data.case;
+    for (const p of f.field.split(".")) v = v === undefined || v === null ? undefined : v[p];
+    if (v === undefined) continue;
+    const input = document.getElementById(fieldId(f.field));
+    if (f.kind === "boolean") input.checked = v === true;
+    else input.value = v === null ? "" : String(v);
+  }
+  document.querySelector("main h1").textContent = `New crush case, from ${r.data.label || id.slice(0, 8)}`;
 }
 
 async function submitForm(e) {

@@ -86,7 +86,8 @@ export async function renderJob(main, id) {
   const side = el("div", { id: "job-side" });
   const below = el("div", { id: "job-below" });
   main.replaceChildren(
-    el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null),
+    el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null,
+      el("a", { href: `#/new/${job.id}`, id: "reuse", class: "small" }, "new case from this one")),
     el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}`,
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
     el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
