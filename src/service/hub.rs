@@ -1,5 +1,7 @@
 //! The progress hub: one `tokio::sync::broadcast` channel per job that has a worker or a
-//! listener, fed from the solver thread without blocking, read by the SSE streams.
+//! listener, fed from the solver thread without blocking, read by the SSE streams. Each channel
+//! also keeps the current claim's events so far (at most [`REPLAY_CAP`], evenly thinned), for
+//! listeners that join mid-run.
 //!
 //! Event ids increase over a job's whole life, across restarts: an event of claim `a` has id
 //! `a · SPAN + k` with `k` counting within the claim, and a job's final event has the largest id
@@ -39,10 +41,49 @@ impl Event {
     }
 }
 
+/// Events of a claim kept for clients that join mid-run: enough for a load curve on a screen.
+/// Past it, the stride between kept events doubles, so the replay still spans the whole run
+/// evenly, at a coarser resolution.
+pub const REPLAY_CAP: usize = 1024;
+
 struct Channel {
     tx: broadcast::Sender<Event>,
-    /// The last event sent, for a client that joins mid-run.
-    latest: Mutex<Option<Event>>,
+    recent: Mutex<Replay>,
+}
+
+/// The current claim's events so far: every `stride`-th, and the newest.
+#[derive(Default)]
+struct Replay {
+    kept: Vec<Event>,
+    stride: u64,
+    newest: Option<Event>,
+}
+
+impl Replay {
+    fn push(&mut self, event: Event) {
+        let seq = |e: &Event| e.id % SPAN;
+        self.stride = self.stride.max(1);
+        if self.kept.len() >= REPLAY_CAP {
+            self.stride *= 2;
+            let stride = self.stride;
+            self.kept.retain(|e| seq(e).is_multiple_of(stride));
+        }
+        if seq(&event).is_multiple_of(self.stride) {
+            self.kept.push(event.clone());
+        }
+        self.newest = Some(event);
+    }
+
+    /// Oldest first, ending with the newest event.
+    fn events(&self) -> Vec<Event> {
+        let mut out = self.kept.clone();
+        if let Some(newest) = &self.newest {
+            if out.last().is_none_or(|e| e.id < newest.id) {
+                out.push(newest.clone());
+            }
+        }
+        out
+    }
 }
 
 /// All live channels, by job.
@@ -65,7 +106,7 @@ impl Hub {
             .or_insert_with(|| {
                 Arc::new(Channel {
                     tx: broadcast::channel(self.capacity).0,
-                    latest: Mutex::new(None),
+                    recent: Mutex::new(Replay::default()),
                 })
             })
             .clone()
@@ -79,24 +120,24 @@ impl Hub {
         }
     }
 
-    /// Listens to a job; the latest event so far comes along.
+    /// Listens to a job; the current claim's events so far come along.
     pub fn subscribe(self: &Arc<Self>, id: Uuid) -> Subscription {
         let ch = self.channel(id);
         let rx = ch.tx.subscribe();
-        let latest = ch.latest.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let recent = ch.recent.lock().unwrap_or_else(|e| e.into_inner()).events();
         Subscription {
             hub: self.clone(),
             id,
             ch: Some(ch),
             rx,
-            latest,
+            recent,
         }
     }
 
     /// The sending end for claim `attempt` of a job.
     pub fn publisher(self: &Arc<Self>, id: Uuid, attempt: i64) -> Publisher {
         let ch = self.channel(id);
-        *ch.latest.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        *ch.recent.lock().unwrap_or_else(|e| e.into_inner()) = Replay::default();
         Publisher {
             hub: self.clone(),
             id,
@@ -125,7 +166,9 @@ pub struct Subscription {
     id: Uuid,
     ch: Option<Arc<Channel>>,
     pub rx: broadcast::Receiver<Event>,
-    pub latest: Option<Event>,
+    /// The events of the current claim sent before it subscribed (evenly thinned past
+    /// [`REPLAY_CAP`]), oldest first, ending with the newest.
+    pub recent: Vec<Event>,
 }
 
 impl Drop for Subscription {
@@ -154,7 +197,10 @@ impl Publisher {
         };
         let event = Event { id, name, data };
         if let Some(ch) = &self.ch {
-            *ch.latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(event.clone());
+            ch.recent
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(event.clone());
             // An error only means nobody is listening.
             let _ = ch.tx.send(event);
         }
@@ -203,6 +249,37 @@ mod tests {
         assert!(ids.windows(2).all(|w| w[0] < w[1]), "{ids:?}");
         assert_eq!(ids[3], final_id(2));
         assert!(final_id(1) < event_id(2, 0));
+    }
+
+    #[test]
+    fn a_late_listener_gets_the_whole_claim_so_far_thinned_but_ending_with_the_newest() {
+        let hub = Hub::new(16);
+        let id = Uuid::new_v4();
+        let mut old = hub.publisher(id, 1);
+        old.send("progress", "old claim".into());
+        drop(old);
+        let mut p = hub.publisher(id, 2);
+        let total = 3 * REPLAY_CAP + 7;
+        for k in 0..total {
+            p.send("progress", k.to_string());
+        }
+        let sub = hub.subscribe(id);
+        let got = &sub.recent;
+        assert!(
+            got.len() <= REPLAY_CAP + 1 && got.len() > REPLAY_CAP / 2,
+            "{}",
+            got.len()
+        );
+        // Evenly spaced: every gap but the last (to the newest) is the same.
+        let gaps: Vec<u64> = got.windows(2).map(|w| w[1].id - w[0].id).collect();
+        assert!(
+            gaps[..gaps.len() - 1].windows(2).all(|g| g[0] == g[1]),
+            "{gaps:?}"
+        );
+        assert!(got.windows(2).all(|w| w[0].id < w[1].id));
+        assert_eq!(got.last().unwrap().data, (total - 1).to_string());
+        let first: usize = got[0].data.parse().expect("nothing of the old claim");
+        assert!(first < 8, "the replay starts at event {first}");
     }
 
     #[test]

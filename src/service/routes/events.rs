@@ -1,5 +1,6 @@
 //! `GET /v1/jobs/{id}/events`: server-sent events from the hub. A stream opens with the job's
-//! current state, follows it live, and closes after the final `done`/`failed`/`cancelled` event.
+//! current state and, for a running job, the events of its run so far (thinned past
+//! `hub::REPLAY_CAP`), follows it live, and closes after the final `done`/`failed`/`cancelled`.
 //! Ids only increase; a reconnecting client (`Last-Event-ID`) is sent only newer events. A
 //! client that connects after the end gets the final event at once (or 204 if it has seen it).
 
@@ -53,7 +54,7 @@ pub async fn events(
                 })?;
         pending.push_back(snapshot(record.status, record.attempts));
         if record.status == Status::Running {
-            pending.extend(sub.latest.clone());
+            pending.extend(sub.recent.iter().cloned());
         }
         let live = Live {
             id: uuid,

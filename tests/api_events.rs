@@ -1,0 +1,67 @@
+//! Event streams joined mid-run, through the real server on port 0: a dashboard that opens a
+//! running job sees the load curve from the start of the run, not only from the moment it
+//! connected.
+
+mod common;
+
+use common::{SseReader, TestApp};
+use serde_json::json;
+use std::time::{Duration, Instant};
+
+#[tokio::test]
+async fn a_stream_joined_mid_run_replays_the_run_so_far_then_follows_it() {
+    let app = TestApp::start(&["--heartbeat-ms", "100"]).await;
+    // A few seconds on one thread.
+    let case = json!({
+        "discretization": {"particles_through_thickness": 2},
+        "loading": {"crush_distance_mm": 20, "plate_speed_m_s": 10},
+        "output": {"history_points": 500}
+    });
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    // Wait until the run is well under way (the heartbeat stores its progress).
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let job = app.job(&id).await;
+        let fraction = job["progress"]["fraction"].as_f64().unwrap_or(0.0);
+        if fraction > 0.2 || job["status"] == "succeeded" {
+            assert_eq!(
+                job["status"], "running",
+                "the run ended before the test joined it"
+            );
+            break;
+        }
+        assert!(Instant::now() < deadline, "the run did not progress");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let url = app.at(&format!("/v1/jobs/{id}/events"));
+    let (status, mut events) = SseReader::open(&app.client, &url, None).await;
+    assert_eq!(status, 200);
+    let mut fractions = Vec::new();
+    let mut ids = Vec::new();
+    let end = loop {
+        let e = events
+            .next(Duration::from_secs(60))
+            .await
+            .expect("the stream goes on to the end");
+        ids.extend(e.id);
+        if e.event != "progress" {
+            if e.event == "status" {
+                continue;
+            }
+            break e;
+        }
+        fractions.push(e.json()["fraction"].as_f64().unwrap());
+    };
+    assert_eq!(end.event, "done", "{}", end.data);
+    assert!(ids.windows(2).all(|w| w[0] < w[1]), "ids must increase");
+    // The replay starts near the beginning of the run: the first history rows of 500.
+    assert!(
+        fractions[0] < 0.05,
+        "first replayed fraction {}",
+        fractions[0]
+    );
+    assert!(fractions.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(*fractions.last().unwrap(), 1.0);
+    // 500 rows, all of which arrive (under the replay cap).
+    assert_eq!(fractions.len(), 500);
+}
