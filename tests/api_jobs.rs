@@ -563,6 +563,26 @@ async fn a_resolution_sweep_carries_error_and_run_time_columns() {
     }
     let groups = table["convergence"].as_array().unwrap();
     assert_eq!(groups.len(), 2);
+    // What the view reads off: a run of the group whose error is within 5 %, or null.
+    for g in groups {
+        let pick = &g["within_5_percent"];
+        assert!(g.get("within_5_percent").is_some(), "{g}");
+        if pick.is_null() {
+            continue;
+        }
+        let row = g["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["n"] == pick["n"])
+            .expect("the pick is one of the group's runs");
+        let column = match pick["against"].as_str().unwrap() {
+            "richardson" => "mean_error_vs_richardson",
+            _ => "mean_error_vs_finest",
+        };
+        assert!(row[column].as_f64().unwrap().abs() <= 0.05, "{g}");
+        assert_eq!(row["wall_time_s"], pick["wall_time_s"]);
+    }
     // A sweep that does not vary the resolution has no error columns.
     let plain = json!({"base": tiny_case(), "parameters": {"contact.friction": [0.0]}});
     let r: Value = app

@@ -69,6 +69,15 @@ export async function renderSweep(main, id) {
   await update();
 }
 
+/// What the server read off: the cheapest run within 5 % of the best estimate.
+function cheapest(g) {
+  const c = g.within_5_percent;
+  const trusted = g.mean_extrapolation && g.mean_extrapolation.trustworthy;
+  const against = trusted ? "the Richardson value" : "the finest run";
+  if (!c) return `No run is within 5 % of ${against}: refine further.`;
+  return `For 5 % error in the mean load (against ${against}): n = ${c.n}, ${seconds(c.wall_time_s)}.`;
+}
+
 function renderConvergence(box, groups, old) {
   if (old) old.chart.destroy();
   const series = [];
@@ -96,7 +105,8 @@ function renderConvergence(box, groups, old) {
         ? `Richardson extrapolation of the mean load: ${kN(ex.value)}, observed order p = ${fmt(ex.order)}` + (ex.trustworthy ? "." : " — not trusted (not monotone, or p outside [0.5, 4]); errors are against the finest run.")
         : g.rows.length < 3
           ? "Too few resolutions for a Richardson extrapolation (it needs three)."
-          : "No Richardson extrapolation: the three finest runs do not converge monotonically. Errors are against the finest run."));
+          : "No Richardson extrapolation: the three finest runs do not converge monotonically. Errors are against the finest run."),
+      el("p", { class: "cheapest" }, cheapest(g)));
   });
   box.replaceChildren(el("h2", {}, "Convergence: error against run time"), chartBox, ...tables);
   if (!series.length) { chartBox.append(el("p", { class: "muted" }, "Needs at least two succeeded resolutions.")); return null; }

@@ -187,7 +187,45 @@ pub struct SweepView {
     /// When the sweep varies `discretization.particles_through_thickness`: per group of the
     /// other swept values, the runs with their errors and the Richardson extrapolations.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub convergence: Option<Vec<GroupAnalysis>>,
+    pub convergence: Option<Vec<GroupView>>,
+}
+
+/// The tolerance the sweep view reads off for the user, as `crush study convergence` does.
+pub const READ_OFF_TOLERANCE: f64 = 0.05;
+
+/// One group of a resolution sweep: the analysis, and the cheapest run within
+/// [`READ_OFF_TOLERANCE`] of the best estimate.
+#[derive(Debug, Serialize)]
+pub struct GroupView {
+    #[serde(flatten)]
+    pub analysis: GroupAnalysis,
+    pub within_5_percent: Option<Cheapest>,
+}
+
+/// The cheapest run within the tolerance, and what its error was measured against.
+#[derive(Debug, Serialize)]
+pub struct Cheapest {
+    pub n: u32,
+    pub wall_time_s: f64,
+    /// `richardson` when the extrapolation is trusted, else `finest`.
+    pub against: &'static str,
+}
+
+impl GroupView {
+    fn new(analysis: GroupAnalysis) -> GroupView {
+        let trusted = analysis.mean_extrapolation.is_some_and(|e| e.trustworthy);
+        let within_5_percent = analysis
+            .cheapest_within(READ_OFF_TOLERANCE)
+            .map(|r| Cheapest {
+                n: r.run.n,
+                wall_time_s: r.run.wall_time_s,
+                against: if trusted { "richardson" } else { "finest" },
+            });
+        GroupView {
+            analysis,
+            within_5_percent,
+        }
+    }
 }
 
 /// The swept field that sets the resolution.
@@ -333,7 +371,7 @@ impl SweepView {
             })
             .collect();
         SweepView {
-            convergence: convergence.map(|c| c.groups),
+            convergence: convergence.map(|c| c.groups.into_iter().map(GroupView::new).collect()),
             id: s.id,
             label: s.label.clone(),
             created_at: rfc3339(s.created_at),
