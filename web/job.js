@@ -132,7 +132,7 @@ export async function renderJob(main, id) {
       if (typeof p.fraction !== "number") return;
       showProgress(p);
       const n = live[0].length;
-      if (n && p.displacement_mm <= live[0][n - 1]) return; // a restarted attempt
+      if (n && p.displacement_mm <= live[0][n - 1]) live.forEach((a) => { a.length = 0; }); // a new attempt
       live[0].push(p.displacement_mm);
       live[1].push(p.load_n / 1000);
       live[2].push(null);
