@@ -44,12 +44,7 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
         (first.event.as_str(), first.json()["status"].as_str()),
         ("status", Some("queued"))
     );
-    let r = app
-        .client
-        .post(app.at(&format!("/v1/jobs/{blocker_id}/cancel")))
-        .send()
-        .await
-        .unwrap();
+    let r = app.post(&format!("/v1/jobs/{blocker_id}/cancel")).await;
     assert_eq!(r.status(), 202);
 
     let mut ids = vec![first.id.unwrap()];
@@ -124,12 +119,7 @@ async fn small_case_streams_rising_progress_then_succeeds_with_history_and_summa
     assert!(text.starts_with("time_ms,displacement_mm,"), "{text}");
     assert_eq!(text.lines().count(), rows.len() + 1);
     // The load curve as SVG, drawn by the server: an SVG document with a line in it.
-    let plot = app
-        .client
-        .get(app.at(&format!("/v1/jobs/{id}/plot.svg")))
-        .send()
-        .await
-        .unwrap();
+    let plot = app.get(&format!("/v1/jobs/{id}/plot.svg")).await;
     assert_eq!(plot.status(), 200);
     assert_eq!(plot.headers()["content-type"], "image/svg+xml");
     let svg = plot.text().await.unwrap();
@@ -181,12 +171,7 @@ async fn a_running_job_is_cancelled_within_a_step() {
         next.id
     );
     drop(resumed);
-    let r = app
-        .client
-        .post(app.at(&format!("/v1/jobs/{id}/cancel")))
-        .send()
-        .await
-        .unwrap();
+    let r = app.post(&format!("/v1/jobs/{id}/cancel")).await;
     assert_eq!(r.status(), 202);
     let body: Value = r.json().await.unwrap();
     assert_eq!(body["cancel_requested"], true);
@@ -204,26 +189,11 @@ async fn a_running_job_is_cancelled_within_a_step() {
     assert_eq!(job["status"], "cancelled");
     assert!(job["summary"].is_null());
     // Cancelling again, or asking for a history, conflicts with the finished state.
-    let again = app
-        .client
-        .post(app.at(&format!("/v1/jobs/{id}/cancel")))
-        .send()
-        .await
-        .unwrap();
+    let again = app.post(&format!("/v1/jobs/{id}/cancel")).await;
     assert_eq!(again.status(), 409);
-    let history = app
-        .client
-        .get(app.at(&format!("/v1/jobs/{id}/history")))
-        .send()
-        .await
-        .unwrap();
+    let history = app.get(&format!("/v1/jobs/{id}/history")).await;
     assert_eq!(history.status(), 409);
-    let plot = app
-        .client
-        .get(app.at(&format!("/v1/jobs/{id}/plot.svg")))
-        .send()
-        .await
-        .unwrap();
+    let plot = app.get(&format!("/v1/jobs/{id}/plot.svg")).await;
     assert_eq!(plot.status(), 409);
     // A queued job is cancelled at once.
     let app0 = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -231,12 +201,7 @@ async fn a_running_job_is_cancelled_within_a_step() {
         .as_str()
         .unwrap()
         .to_string();
-    let r = app0
-        .client
-        .post(app0.at(&format!("/v1/jobs/{queued}/cancel")))
-        .send()
-        .await
-        .unwrap();
+    let r = app0.post(&format!("/v1/jobs/{queued}/cancel")).await;
     assert_eq!(r.status(), 200);
     assert_eq!(r.json::<Value>().await.unwrap()["status"], "cancelled");
 }
@@ -288,15 +253,7 @@ async fn fifty_concurrent_submissions_are_all_accounted_for() {
     }
     assert_eq!(listed.len(), 50);
     assert_eq!(listed.iter().cloned().collect::<HashSet<_>>(), submitted);
-    let metrics = app
-        .client
-        .get(app.at("/metrics"))
-        .send()
-        .await
-        .unwrap()
-        .text()
-        .await
-        .unwrap();
+    let metrics = app.get("/metrics").await.text().await.unwrap();
     let total: i64 = metrics
         .lines()
         .filter(|l| l.starts_with("crush_jobs{"))
@@ -366,11 +323,8 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
     }
     assert_eq!(table["counts"]["succeeded"], 3);
     let csv = app
-        .client
-        .get(app.at(&format!("{location}?format=csv")))
-        .send()
+        .get(&format!("{location}?format=csv"))
         .await
-        .unwrap()
         .text()
         .await
         .unwrap();

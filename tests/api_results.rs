@@ -8,10 +8,6 @@ use common::{get_json, tiny_case, TestApp};
 use serde_json::Value;
 use std::time::Duration;
 
-async fn get(app: &TestApp, path: &str) -> reqwest::Response {
-    app.client.get(app.at(path)).send().await.unwrap()
-}
-
 #[tokio::test]
 async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
     let app = TestApp::start(&[]).await;
@@ -28,7 +24,7 @@ async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
     let summary = get_json(&app.client, &app.at(&format!("/v1/jobs/{id}/summary"))).await;
     assert_eq!(summary, job["summary"]);
 
-    let r = get(&app, &format!("/v1/jobs/{id}/shape.png")).await;
+    let r = app.get(&format!("/v1/jobs/{id}/shape.png")).await;
     assert_eq!(r.status(), 200);
     assert_eq!(r.headers()["content-type"], "image/png");
     let png = r.bytes().await.unwrap();
@@ -38,7 +34,7 @@ async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
     let drawn = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
     assert!(drawn > 1000, "only {drawn} pixels drawn");
 
-    let r = get(&app, &format!("/v1/jobs/{id}/state.vtu")).await;
+    let r = app.get(&format!("/v1/jobs/{id}/state.vtu")).await;
     assert_eq!(r.status(), 200);
     assert!(r.headers()["content-disposition"]
         .to_str()
@@ -85,7 +81,7 @@ async fn a_case_that_keeps_no_state_has_numbers_but_no_picture() {
         .await;
     assert_eq!(job["status"], "succeeded", "{job}");
     for path in ["shape.png", "state.vtu"] {
-        let r = get(&app, &format!("/v1/jobs/{id}/{path}")).await;
+        let r = app.get(&format!("/v1/jobs/{id}/{path}")).await;
         assert_eq!(r.status(), 404, "{path}");
         let problem: Value = r.json().await.unwrap();
         assert!(
@@ -97,7 +93,7 @@ async fn a_case_that_keeps_no_state_has_numbers_but_no_picture() {
         );
     }
     assert_eq!(
-        get(&app, &format!("/v1/jobs/{id}/history")).await.status(),
+        app.get(&format!("/v1/jobs/{id}/history")).await.status(),
         200
     );
 }
@@ -111,18 +107,18 @@ async fn unfinished_and_unknown_jobs_have_no_results() {
         .to_string();
     for path in ["summary", "shape.png", "state.vtu"] {
         assert_eq!(
-            get(&app, &format!("/v1/jobs/{id}/{path}")).await.status(),
+            app.get(&format!("/v1/jobs/{id}/{path}")).await.status(),
             409
         );
         let unknown = format!("/v1/jobs/00000000-0000-4000-8000-000000000000/{path}");
-        assert_eq!(get(&app, &unknown).await.status(), 404);
+        assert_eq!(app.get(&unknown).await.status(), 404);
     }
 }
 
 #[tokio::test]
 async fn the_page_and_its_assets_are_served_from_the_binary() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
-    let page = get(&app, "/").await;
+    let page = app.get("/").await;
     assert_eq!(page.status(), 200);
     assert!(page.headers()["content-type"]
         .to_str()
@@ -138,7 +134,7 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
                 continue;
             }
             assert!(target.starts_with("/assets/"), "{target} is not ours");
-            let r = get(&app, target).await;
+            let r = app.get(target).await;
             assert_eq!(r.status(), 200, "{target}");
             assert!(!r.bytes().await.unwrap().is_empty());
             named += 1;
@@ -146,7 +142,7 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
     }
     assert!(named >= 4, "{named} assets named");
     // app.js imports the page's other modules: each is served, and none reaches elsewhere.
-    let app_js = get(&app, "/assets/app.js").await.text().await.unwrap();
+    let app_js = app.get("/assets/app.js").await.text().await.unwrap();
     let modules: Vec<String> = app_js
         .split("from \"./")
         .skip(1)
@@ -154,7 +150,7 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
         .collect();
     assert!(modules.len() >= 4, "{modules:?}");
     for name in std::iter::once("app.js".to_string()).chain(modules) {
-        let r = get(&app, &format!("/assets/{name}")).await;
+        let r = app.get(&format!("/assets/{name}")).await;
         assert_eq!(r.status(), 200, "{name}");
         let js = r.text().await.unwrap();
         assert!(
@@ -165,7 +161,7 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
             assert!(import.starts_with("./"), "{name} imports {import:.40}");
         }
     }
-    assert_eq!(get(&app, "/assets/nothing.js").await.status(), 404);
+    assert_eq!(app.get("/assets/nothing.js").await.status(), 404);
 
     let fields = get_json(&app.client, &app.at("/v1/case/fields")).await;
     let thickness = fields

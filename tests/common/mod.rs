@@ -82,6 +82,16 @@ impl TestApp {
         format!("{}{path}", self.url)
     }
 
+    /// `GET path`, whatever the answer.
+    pub async fn get(&self, path: &str) -> reqwest::Response {
+        self.client.get(self.at(path)).send().await.unwrap()
+    }
+
+    /// `POST path` with no body, whatever the answer.
+    pub async fn post(&self, path: &str) -> reqwest::Response {
+        self.client.post(self.at(path)).send().await.unwrap()
+    }
+
     /// Submits a case; panics unless it is accepted.
     pub async fn submit(&self, case: &Value) -> Value {
         let r = self
