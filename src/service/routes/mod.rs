@@ -15,7 +15,7 @@ use super::worker::Workers;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{DefaultBodyLimit, Request};
-use axum::http::{header, HeaderMap, StatusCode};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post, MethodRouter};
 use axum::{middleware, Router};
@@ -175,19 +175,41 @@ pub(crate) fn wants_csv(headers: &HeaderMap, format: Option<&str>) -> Result<boo
         .any(|m| m.split(';').next().unwrap_or("").trim() == "text/csv"))
 }
 
+/// `?format=csv|json` of the routes that answer either.
+#[derive(Debug, serde::Deserialize)]
+pub struct FormatParams {
+    pub format: Option<String>,
+}
+
+/// A file-like answer: its content type, an optional `Content-Disposition` and an optional
+/// `Cache-Control`.
+pub(crate) fn file_response(
+    content_type: &'static str,
+    disposition: Option<String>,
+    cache: Option<&'static str>,
+    body: impl IntoResponse,
+) -> Response {
+    let mut response = body.into_response();
+    let headers = response.headers_mut();
+    headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(content_type));
+    // Our file names are built from UUIDs: always a valid header value.
+    if let Some(value) = disposition.and_then(|d| HeaderValue::from_str(&d).ok()) {
+        headers.insert(header::CONTENT_DISPOSITION, value);
+    }
+    if let Some(cache) = cache {
+        headers.insert(header::CACHE_CONTROL, HeaderValue::from_static(cache));
+    }
+    response
+}
+
 /// A CSV response.
 pub(crate) fn csv_response(text: String, filename: &str) -> Response {
-    (
-        [
-            (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_string()),
-            (
-                header::CONTENT_DISPOSITION,
-                format!("inline; filename=\"{filename}\""),
-            ),
-        ],
+    file_response(
+        "text/csv; charset=utf-8",
+        Some(format!("inline; filename=\"{filename}\"")),
+        None,
         text,
     )
-        .into_response()
 }
 
 /// A path id: a UUID, or the thing is not found.

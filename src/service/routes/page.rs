@@ -1,11 +1,11 @@
 //! The web page: `/` and its assets, compiled into the binary (`web/`), so that the page works
 //! with no network: nothing is fetched from anywhere but this server.
 
+use super::file_response;
 use crate::service::error::ApiError;
 use crate::service::form;
 use axum::extract::Path;
-use axum::http::header;
-use axum::response::{IntoResponse, Response};
+use axum::response::Response;
 use axum::Json;
 
 const JS: &str = "text/javascript; charset=utf-8";
@@ -39,14 +39,7 @@ const ASSETS: &[(&str, &str, &str)] = &[
 const INDEX: &str = include_str!("../../../web/index.html");
 
 pub async fn index() -> Response {
-    (
-        [
-            (header::CONTENT_TYPE, "text/html; charset=utf-8"),
-            (header::CACHE_CONTROL, "no-cache"),
-        ],
-        INDEX,
-    )
-        .into_response()
+    file_response("text/html; charset=utf-8", None, Some("no-cache"), INDEX)
 }
 
 pub async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
@@ -57,14 +50,7 @@ pub async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
             .ok_or_else(|| ApiError::NotFound {
                 what: format!("asset {name}"),
             })?;
-    Ok((
-        [
-            (header::CONTENT_TYPE, *kind),
-            (header::CACHE_CONTROL, "no-cache"),
-        ],
-        *body,
-    )
-        .into_response())
+    Ok(file_response(kind, None, Some("no-cache"), *body))
 }
 
 /// The case form as data (see [`form`]).

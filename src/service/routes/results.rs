@@ -2,25 +2,19 @@
 //! the deformed tube as PNG and the final particle state as a VTU file. 404 for an unknown job,
 //! 409 for one that has not succeeded.
 
-use super::{csv_response, parse_id, wants_csv, AppState};
+use super::{csv_response, file_response, parse_id, wants_csv, AppState, FormatParams};
 use crate::plot::{self, Series};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
 use crate::solver::{scene::lattice_positions, Case, HistoryRow, Limits};
 use axum::extract::{Path, Query, State};
-use axum::http::{header, HeaderMap};
+use axum::http::HeaderMap;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde::Deserialize;
 
 /// A succeeded job never changes again, so its pictures and files may be cached.
 const CACHE: &str = "private, max-age=86400";
-
-#[derive(Debug, Deserialize)]
-pub struct FormatParams {
-    format: Option<String>,
-}
 
 /// A succeeded job; 404 for an unknown job, 409 saying `why` for one that has not succeeded.
 async fn succeeded(s: &AppState, id: &str, why: &str) -> Result<JobRecord, ApiError> {
@@ -113,14 +107,7 @@ pub async fn plot_svg(
         plot::lines_svg((&title, "plate travel, mm", "load, kN"), &series, false)
     })
     .await?;
-    Ok((
-        [
-            (header::CONTENT_TYPE, "image/svg+xml"),
-            (header::CACHE_CONTROL, CACHE),
-        ],
-        svg,
-    )
-        .into_response())
+    Ok(file_response("image/svg+xml", None, Some(CACHE), svg))
 }
 
 /// The deformed tube coloured by plastic strain, three views, as PNG.
@@ -133,14 +120,7 @@ pub async fn shape_png(
     let png =
         render(move || plot::tube_png(&case, &title, &state.position_mm, &state.plastic_strain))
             .await?;
-    Ok((
-        [
-            (header::CONTENT_TYPE, "image/png"),
-            (header::CACHE_CONTROL, CACHE),
-        ],
-        png,
-    )
-        .into_response())
+    Ok(file_response("image/png", None, Some(CACHE), png))
 }
 
 /// The final particle state as a VTK XML unstructured grid (ParaView opens it).
@@ -151,18 +131,13 @@ pub async fn state_vtu(
     let (record, case, state) = final_state(&s, &id, "VTU file").await?;
     let title = title(&record);
     let vtu = render(move || state::vtu(&title, &lattice_positions(&case), &state)).await?;
-    Ok((
-        [
-            (header::CONTENT_TYPE, "application/xml".to_string()),
-            (
-                header::CONTENT_DISPOSITION,
-                format!("attachment; filename=\"{id}.vtu\""),
-            ),
-            (header::CACHE_CONTROL, CACHE.to_string()),
-        ],
+    let disposition = format!("attachment; filename=\"{id}.vtu\"");
+    Ok(file_response(
+        "application/xml",
+        Some(disposition),
+        Some(CACHE),
         vtu,
-    )
-        .into_response())
+    ))
 }
 
 /// The summary alone, as JSON, named for saving.
@@ -176,17 +151,13 @@ pub async fn summary(
             "succeeded job {id} has no summary"
         )))
     })?;
-    Ok((
-        [
-            (header::CONTENT_TYPE, "application/json".to_string()),
-            (
-                header::CONTENT_DISPOSITION,
-                format!("inline; filename=\"{id}-summary.json\""),
-            ),
-        ],
+    let disposition = format!("inline; filename=\"{id}-summary.json\"");
+    Ok(file_response(
+        "application/json",
+        Some(disposition),
+        None,
         text,
-    )
-        .into_response())
+    ))
 }
 
 pub async fn history(
@@ -199,14 +170,13 @@ pub async fn history(
     let record = succeeded(&s, &id, "its history is stored when it succeeds").await?;
     let rows = s.store.history(record.id).await?;
     if csv {
-        let mut w = csv::Writer::from_writer(Vec::new());
-        let mut write = || -> Result<Vec<u8>, csv::Error> {
+        let write = || -> Result<Vec<u8>, csv::Error> {
+            let mut w = csv::Writer::from_writer(Vec::new());
             w.write_record(HistoryRow::COLUMNS)?;
             for row in &rows {
                 w.write_record(row.iter().map(|v| v.to_string()))?;
             }
-            w.flush()?;
-            Ok(w.get_ref().clone())
+            w.into_inner().map_err(|e| e.into_error().into())
         };
         let bytes = write().map_err(ApiError::internal)?;
         let text = String::from_utf8(bytes).map_err(ApiError::internal)?;

@@ -2,7 +2,7 @@
 //! the sweep's table of results as JSON or CSV.
 
 use super::jobs::prepare;
-use super::{csv_response, json_text, parse_id, wants_csv, AppState};
+use super::{csv_response, json_text, parse_id, wants_csv, AppState, FormatParams};
 use crate::service::error::ApiError;
 use crate::service::store::{NewSweep, SweepSubmitted};
 use crate::service::sweep::{expand, parameters, SweepRequest};
@@ -14,7 +14,6 @@ use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde::Deserialize;
 use serde_json::Value;
 use uuid::Uuid;
 
@@ -120,11 +119,6 @@ fn unprocessable(errors: Vec<FieldError>) -> ApiError {
             .join("; "),
         errors: unique,
     }
-}
-
-#[derive(Debug, Deserialize)]
-pub struct FormatParams {
-    format: Option<String>,
 }
 
 pub async fn get(
