@@ -5,7 +5,7 @@
 
 mod shape;
 
-pub use shape::{shape_png, tube_png, TubeShape};
+pub use shape::tube_png;
 
 use anyhow::Context;
 use plotters::coord::Shift;

@@ -14,15 +14,15 @@ use plotters::style::colors::colormaps::ViridisRGB;
 
 /// What to draw.
 #[derive(Debug, Clone, Copy)]
-pub struct TubeShape<'a> {
-    pub title: &'a str,
+struct TubeShape<'a> {
+    title: &'a str,
     /// Final positions, mm (plates are normal to z).
-    pub position_mm: &'a [[f32; 3]],
-    pub plastic_strain: &'a [f32],
+    position_mm: &'a [[f32; 3]],
+    plastic_strain: &'a [f32],
     /// Particle spacing h, mm: the side of each drawn square.
-    pub spacing_mm: f64,
+    spacing_mm: f64,
     /// The tube axis is x (lateral loading) rather than z (axial).
-    pub axis_x: bool,
+    axis_x: bool,
 }
 
 const SIZE: (u32, u32) = (1280, 520);
@@ -130,7 +130,7 @@ pub fn tube_png(
 }
 
 /// The picture as PNG bytes.
-pub fn shape_png(shape: &TubeShape) -> anyhow::Result<Vec<u8>> {
+fn shape_png(shape: &TubeShape) -> anyhow::Result<Vec<u8>> {
     anyhow::ensure!(
         shape.position_mm.len() == shape.plastic_strain.len(),
         "{} positions but {} strains",
@@ -162,7 +162,7 @@ type DrawResult =
 fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
     let text = font();
     let (w, h) = SIZE;
-    let top = scale_top(shape);
+    let top = strain_scale(shape.plastic_strain);
     if text {
         root.draw(&Text::new(
             shape.title.to_string(),
@@ -184,10 +184,6 @@ fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
         .clone()
         .shrink((panels_w, TITLE_PX), (BAR_PX as u32, h - TITLE_PX as u32));
     colour_bar(&bar, top, text)
-}
-
-fn scale_top(shape: &TubeShape) -> f64 {
-    strain_scale(shape.plastic_strain)
 }
 
 fn draw_view(area: &Area, shape: &TubeShape, view: &View, top: f64, text: bool) -> DrawResult {

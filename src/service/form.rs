@@ -131,18 +131,21 @@ pub fn fields() -> Vec<Field> {
         .iter()
         .map(|s| {
             let pointer = format!("/{}", s.field.replace('.', "/"));
+            // Only the fields the server fills in itself (label, crush distance) have no
+            // default in the serialized case: those are the optional ones.
+            let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
             Field {
                 field: s.field,
                 label: s.label,
                 unit: s.unit,
                 kind: s.kind,
-                default: defaults.pointer(&pointer).cloned().unwrap_or(Value::Null),
+                optional: default.is_null(),
+                default,
                 min: s.min.map(|m| m.0),
                 max: s.max.map(|m| m.0),
                 min_exclusive: s.min.is_some_and(|m| m.1),
                 max_exclusive: s.max.is_some_and(|m| m.1),
                 choices: s.choices,
-                optional: matches!(s.field, "label" | "loading.crush_distance_mm"),
                 help: s.help,
             }
         })
@@ -197,6 +200,12 @@ mod tests {
             assert!(!f.default.is_null(), "{} has no default", f.field);
         }
         assert!(Case::parse(CaseSpec::default(), &Limits::default()).is_ok());
+        let optional: Vec<&str> = fields
+            .iter()
+            .filter(|f| f.optional)
+            .map(|f| f.field)
+            .collect();
+        assert_eq!(optional, ["label", "loading.crush_distance_mm"]);
     }
 
     #[test]
