@@ -96,6 +96,7 @@ export async function renderJob(main, id) {
   const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
   const live = [[], [], []]; // the fixed plate's load comes with the stored history only
   let redraw = null;
+  let ended = false;
   onLeave(() => clearTimeout(redraw));
   const showProgress = (p) => {
     bar.value = p.fraction;
@@ -110,7 +111,7 @@ export async function renderJob(main, id) {
     status.textContent = job.status;
     cancel.remove();
     clearTimeout(redraw);
-    redraw = -1; // no more live redraws
+    ended = true; // the stored history replaces the live curve
     if (job.status === "succeeded") {
       bar.value = 1;
       barText.textContent = "done";
@@ -137,7 +138,7 @@ export async function renderJob(main, id) {
       live[1].push(p.load_n / 1000);
       live[2].push(null);
       // Redraw at most four times a second, whatever the history's resolution.
-      if (!redraw) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
+      if (!redraw && !ended) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
     });
     for (const end of ["done", "failed", "cancelled"]) {
       es.addEventListener(end, () => { es.close(); finish(); });
