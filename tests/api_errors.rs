@@ -96,7 +96,12 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     let p = problem(c.post(&jobs).json(&big).send().await.unwrap(), 422).await;
     assert_eq!(
         fields(&p),
-        vec!["discretization.particles_through_thickness"]
+        vec![
+            "tube.thickness_mm",
+            "tube.mean_diameter_mm",
+            "tube.length_mm",
+            "discretization.particles_through_thickness"
+        ]
     );
     assert!(p["detail"].as_str().unwrap().contains("20000"), "{p}");
     let p = problem(
@@ -108,10 +113,7 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
         422,
     )
     .await;
-    assert_eq!(
-        fields(&p),
-        vec!["discretization.particles_through_thickness"]
-    );
+    assert!(fields(&p).contains(&"discretization.particles_through_thickness".to_string()));
 
     // 413: a body over the limit, whether announced or streamed.
     let huge = format!("{{\"label\": \"{}\"}}", "x".repeat(200_000));
@@ -274,4 +276,155 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
         c.get(app.at("/healthz")).send().await.unwrap().status(),
         200
     );
+}
+
+/// Issue 10's three requests whose particle count overflowed: each is a 422 naming the tube's
+/// fields, from `/v1/jobs` and `/v1/estimate` alike, and the server stays up.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn particle_counts_that_overflowed_u64_are_refused_not_run() {
+    let app = TestApp::start(&["--concurrent-jobs", "1"]).await;
+    let c = &app.client;
+    for (body, field) in [
+        (r#"{"tube":{"thickness_mm":1e-300}}"#, "tube.thickness_mm"),
+        (
+            r#"{"tube":{"thickness_mm":1,"mean_diameter_mm":1367130551.2,"length_mm":4294967296},"discretization":{"particles_through_thickness":1}}"#,
+            "tube.mean_diameter_mm",
+        ),
+        (r#"{"tube":{"length_mm":1e300}}"#, "tube.length_mm"),
+    ] {
+        for route in ["/v1/jobs", "/v1/estimate"] {
+            let r = c
+                .post(app.at(route))
+                .header("content-type", "application/json")
+                .body(body)
+                .send()
+                .await
+                .unwrap();
+            let p = problem(r, 422).await;
+            assert!(fields(&p).contains(&field.to_string()), "{body}: {p}");
+            let detail = p["detail"].as_str().unwrap();
+            assert!(detail.contains("particles"), "{detail}");
+            assert!(!detail.contains("18446744073709551"), "{detail}");
+        }
+    }
+    let list = get_json(c, &app.at("/v1/jobs")).await;
+    assert_eq!(list["jobs"].as_array().unwrap().len(), 0, "{list}");
+    assert_eq!(app.get("/healthz").await.status(), 200);
+}
+
+/// Issue 10: a plate speed of 1e-300 m/s was accepted with an estimate of 1.8e19 steps.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
+    let app = TestApp::start(&[
+        "--concurrent-jobs",
+        "0",
+        "--max-steps",
+        "100000",
+        "--max-particle-steps",
+        "1000000000",
+    ])
+    .await;
+    let c = &app.client;
+    for route in ["/v1/jobs", "/v1/estimate"] {
+        let r = c
+            .post(app.at(route))
+            .json(&json!({"loading": {"plate_speed_m_s": 1e-300}}))
+            .send()
+            .await
+            .unwrap();
+        let p = problem(r, 422).await;
+        let named = fields(&p);
+        for f in [
+            "loading.plate_speed_m_s",
+            "loading.crush_distance_mm",
+            "discretization.cfl",
+            "material.youngs_modulus_mpa",
+            "material.density_kg_m3",
+            "discretization.particles_through_thickness",
+        ] {
+            assert!(named.contains(&f.to_string()), "{f} not in {named:?}");
+        }
+        assert!(
+            p["detail"].as_str().unwrap().contains("limit of 100000"),
+            "{p}"
+        );
+        // The default case: 33 155 particles × 15 687 steps = 5.2e8 particle-steps, under
+        // 1e9; at n = 6 (examples/axial_t3.2.json), 112 112 × 23 531 = 2.6e9, over.
+        let fine = json!({"discretization": {"particles_through_thickness": 6}});
+        let p = problem(c.post(app.at(route)).json(&fine).send().await.unwrap(), 422).await;
+        assert!(
+            p["detail"].as_str().unwrap().contains("particle-steps"),
+            "{p}"
+        );
+    }
+    let ok = c
+        .post(app.at("/v1/estimate"))
+        .json(&json!({}))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(ok.status(), 200);
+    let estimate: Value = ok.json().await.unwrap();
+    assert_eq!(estimate["steps"], 15687, "{estimate}");
+}
+
+/// Issue 10: a job stored by an older version whose count had wrapped crashed the server when
+/// the worker built its scene, at every restart. Now the worker checks the case again and
+/// fails the job with the reason.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stored_job_that_would_overflow_fails_with_the_reason_instead_of_crashing() {
+    use crush::service::store::{NewJob, Store};
+    let dir = tempfile::tempdir().unwrap();
+    let db = database_url(dir.path());
+    let store = Store::open(&db).await.unwrap();
+    let id = uuid::Uuid::new_v4();
+    let case = r#"{"discretization":{"particles_through_thickness":1},"tube":{"length_mm":4294967296,"mean_diameter_mm":1367130551.2,"thickness_mm":1}}"#;
+    store
+        .submit(
+            NewJob {
+                id,
+                case_json: case.into(),
+                label: None,
+                particles: 0,
+                idempotency_key: None,
+            },
+            10,
+        )
+        .await
+        .unwrap();
+    store.close().await;
+    let args = crush::service::ServeArgs::from_flags([
+        "--port",
+        "0",
+        "--database-url",
+        db.as_str(),
+        "--threads-per-job",
+        "1",
+    ])
+    .unwrap();
+    let server = crush::service::start(args).await.unwrap();
+    let url = format!("http://{}", server.addr);
+    let c = client();
+    let job = wait_for(
+        &c,
+        &url,
+        &id.to_string(),
+        &["failed"],
+        Duration::from_secs(20),
+    )
+    .await;
+    let error = job["error"].as_str().unwrap();
+    assert!(
+        error.contains("tube.mean_diameter_mm") && error.contains("particles"),
+        "{error}"
+    );
+    assert_eq!(
+        c.get(format!("{url}/healthz"))
+            .send()
+            .await
+            .unwrap()
+            .status(),
+        200
+    );
+    server.stop().await.unwrap();
 }

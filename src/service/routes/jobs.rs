@@ -4,7 +4,7 @@ use super::{json_text, parse_id, AppState, HttpLimits};
 use crate::service::error::ApiError;
 use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
-use crate::solver::{case::spec_from_json, Case, Limits};
+use crate::solver::{case::spec_from_json, Case};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Path, Query, State};
@@ -26,12 +26,7 @@ pub(crate) fn prepare(
 ) -> Result<NewJob, ApiError> {
     let spec = spec_from_json(text)?;
     let label = spec.label.clone();
-    let case = Case::parse(
-        spec,
-        &Limits {
-            max_particles: limits.max_particles,
-        },
-    )?;
+    let case = Case::parse(spec, &limits.case)?;
     // Stored as submitted, in a canonical form so that a retried submit compares equal.
     let value: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| ApiError::bad_request(format!("malformed JSON: {e}"), None))?;

@@ -12,6 +12,7 @@ use super::error::{ApiError, PROBLEM_JSON};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
+use crate::solver::Limits;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{DefaultBodyLimit, Request};
@@ -27,7 +28,8 @@ use tokio::sync::{watch, Semaphore};
 #[derive(Debug, Clone)]
 pub struct HttpLimits {
     pub max_body_bytes: usize,
-    pub max_particles: u64,
+    /// What a case may cost (particles, steps, particle-steps).
+    pub case: Limits,
     pub max_queue: u64,
     pub max_sweep_jobs: usize,
     pub max_sse_clients: usize,
