@@ -428,3 +428,69 @@ async fn a_stored_job_that_would_overflow_fails_with_the_reason_instead_of_crash
     );
     server.stop().await.unwrap();
 }
+
+/// Issue 10's smaller items: a body that is not one JSON object, a body without a content type,
+/// ids in other spellings, and a cursor that was a row number.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bodies_ids_and_cursors_are_read_one_way_only() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let c = &app.client;
+    let send = |route: &str, ct: Option<&str>, body: &'static str| {
+        let mut r = c.post(app.at(route)).body(body);
+        if let Some(ct) = ct {
+            r = r.header("content-type", ct);
+        }
+        r.send()
+    };
+    // `[]` was a default case; `/v1/estimate` took trailing text and two documents. Every
+    // route that takes a body now reads it the same way.
+    for route in ["/v1/jobs", "/v1/estimate", "/v1/sweeps"] {
+        for body in ["[]", "[{}]", "{} x", "{}{}", "{} {}", "null", "\"{}\""] {
+            let r = send(route, Some("application/json"), body).await.unwrap();
+            problem(r, 400).await;
+        }
+        // A missing content type is 415, as the README promises.
+        let r = send(route, None, "{}").await.unwrap();
+        let p = problem(r, 415).await;
+        assert!(
+            p["detail"].as_str().unwrap().contains("application/json"),
+            "{p}"
+        );
+    }
+    let r = send("/v1/estimate", Some("application/json"), " {}\n")
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+
+    // Ids: only the hyphenated form (either case); braced, URN and plain hex are 404.
+    let first = app.submit(&tiny_case()).await;
+    let second = app.submit(&tiny_case()).await;
+    let id = first["id"].as_str().unwrap().to_string();
+    let uuid = uuid::Uuid::parse_str(&id).unwrap();
+    assert_eq!(app.get(&format!("/v1/jobs/{id}")).await.status(), 200);
+    let upper = id.to_uppercase();
+    assert_eq!(app.get(&format!("/v1/jobs/{upper}")).await.status(), 200);
+    for other in [
+        uuid.braced().to_string(),
+        uuid.urn().to_string(),
+        uuid.simple().to_string(),
+    ] {
+        let path = format!("/v1/jobs/{other}");
+        problem(app.get(&path).await, 404).await;
+        problem(app.get(&format!("{path}/history")).await, 404).await;
+        problem(app.post(&format!("{path}/cancel")).await, 404).await;
+    }
+
+    // The cursor is opaque (not a row number) and still pages; a made-up one is 400.
+    let page = get_json(c, &app.at("/v1/jobs?limit=1")).await;
+    assert_eq!(page["jobs"][0]["id"], second["id"]);
+    let cursor = page["next_cursor"].as_str().unwrap().to_string();
+    assert!(cursor.parse::<i64>().is_err(), "{cursor}");
+    let page = get_json(c, &app.at(&format!("/v1/jobs?limit=1&cursor={cursor}"))).await;
+    assert_eq!(page["jobs"][0]["id"], first["id"]);
+    assert!(page["next_cursor"].is_null(), "{page}");
+    for bad in ["1", "2", "999", "a%2Fb"] {
+        let p = problem(app.get(&format!("/v1/jobs?cursor={bad}")).await, 400).await;
+        assert_eq!(p["field"], "cursor", "{p}");
+    }
+}

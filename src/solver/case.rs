@@ -332,6 +332,20 @@ impl Case {
             LoadingMode::Lateral => 12.5,
         });
         let wave = wave_speed_m_s(m);
+        let material_ok = [m.youngs_modulus_mpa, m.density_kg_m3]
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0);
+        if material_ok && !wave.is_finite() {
+            // E / ρ overflows (E = 1e308 MPa, or ρ = 1e-300 kg/m³): no time step would be
+            // stable, and the run would never advance (found by tests/case_fuzz.rs).
+            for f in ["material.youngs_modulus_mpa", "material.density_kg_m3"] {
+                c.fail(
+                    f,
+                    "gives a wave speed sqrt(E / density) too large to compute; \
+                     the ratio of E (MPa) to density (kg/m³) must be below about 1e300",
+                );
+            }
+        }
         if wave.is_finite() && l.plate_speed_m_s.is_finite() && l.plate_speed_m_s > 0.5 * wave {
             c.fail(
                 "loading.plate_speed_m_s",
@@ -453,16 +467,29 @@ impl Case {
     }
 }
 
-/// JSON text → spec, naming the field of a type error or an unknown field.
+/// JSON text → spec, naming the field of a type error or an unknown field. The text must be
+/// one JSON object and nothing after it: serde would read a struct from an array (`[]` is then
+/// the default case) and stop before trailing text.
 pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
+    if !text.trim_start().starts_with('{') {
+        return Err(CaseError::Malformed {
+            field: None,
+            message: "a case must be a JSON object".into(),
+        });
+    }
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let spec = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         CaseError::Malformed {
             field: (path != "." && !path.is_empty()).then_some(path),
             message: e.inner().to_string(),
         }
-    })
+    })?;
+    de.end().map_err(|e| CaseError::Malformed {
+        field: None,
+        message: format!("text after the case: {e}"),
+    })?;
+    Ok(spec)
 }
 
 /// c = √(E(1−ν) / ((1+ν)(1−2ν)ρ)) in m/s, from E in MPa and ρ in kg/m³.
@@ -508,7 +535,14 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
         spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
     let speed = spec.loading.plate_speed_m_s;
     let dt_ms = d.cfl * cell / (wave_speed_m_s(&spec.material) + speed);
-    (crush_mm / speed / dt_ms).ceil()
+    let steps = crush_mm / speed / dt_ms;
+    // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
+    // underflow over a Δt of 0) is too many, not one (both found by tests/case_fuzz.rs).
+    if steps.is_nan() {
+        f64::INFINITY
+    } else {
+        steps.ceil().max(1.0)
+    }
 }
 
 /// Fields that set the particle count.
@@ -816,6 +850,25 @@ mod tests {
     }
 
     #[test]
+    fn an_infinite_wave_speed_is_refused_not_run_with_a_zero_time_step() {
+        // Found by tests/case_fuzz.rs: ρ = 1e-300 gave c = ∞, Δt = 0, and with a crush of
+        // 5e-324 mm, 0 / 0 steps, which counted as one: the run would never advance.
+        let text =
+            r#"{"material":{"density_kg_m3":1e-300},"loading":{"crush_distance_mm":5e-324}}"#;
+        let errors = rejected_fields(text, &Limits::unbounded());
+        assert!(
+            errors.iter().any(|e| e.field == "material.density_kg_m3"),
+            "{errors:?}"
+        );
+        let case = Case::from_json(
+            r#"{"loading":{"crush_distance_mm":5e-324}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(case.step_count(), 1);
+    }
+
+    #[test]
     fn too_much_work_names_every_field_that_drives_it() {
         let limits = Limits {
             max_particle_steps: 1_000_000,
@@ -863,6 +916,20 @@ mod tests {
         let err = Case::from_json(r#"{"tube": {"wall": 1}}"#, &Limits::default()).unwrap_err();
         assert!(err.to_string().contains("wall"), "{err}");
         assert!(Case::from_json("{", &Limits::default()).is_err());
+    }
+
+    #[test]
+    fn an_array_or_trailing_text_is_not_a_case() {
+        // Issue 10: `[]` was read as the default case, and `/v1/estimate` took `{} x` and `{}{}`.
+        for text in [
+            "[]", "[1]", "3", "\"{}\"", "null", "{} x", "{}{}", "{} {}", "{},",
+        ] {
+            match Case::from_json(text, &Limits::default()) {
+                Err(CaseError::Malformed { .. }) => {}
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+        assert!(Case::from_json(" {}\n ", &Limits::default()).is_ok());
     }
 
     #[test]
