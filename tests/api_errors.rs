@@ -96,7 +96,12 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     let p = problem(c.post(&jobs).json(&big).send().await.unwrap(), 422).await;
     assert_eq!(
         fields(&p),
-        vec!["discretization.particles_through_thickness"]
+        vec![
+            "tube.thickness_mm",
+            "tube.mean_diameter_mm",
+            "tube.length_mm",
+            "discretization.particles_through_thickness"
+        ]
     );
     assert!(p["detail"].as_str().unwrap().contains("20000"), "{p}");
     let p = problem(
@@ -108,10 +113,7 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
         422,
     )
     .await;
-    assert_eq!(
-        fields(&p),
-        vec!["discretization.particles_through_thickness"]
-    );
+    assert!(fields(&p).contains(&"discretization.particles_through_thickness".to_string()));
 
     // 413: a body over the limit, whether announced or streamed.
     let huge = format!("{{\"label\": \"{}\"}}", "x".repeat(200_000));
@@ -274,4 +276,221 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
         c.get(app.at("/healthz")).send().await.unwrap().status(),
         200
     );
+}
+
+/// Issue 10's three requests whose particle count overflowed: each is a 422 naming the tube's
+/// fields, from `/v1/jobs` and `/v1/estimate` alike, and the server stays up.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn particle_counts_that_overflowed_u64_are_refused_not_run() {
+    let app = TestApp::start(&["--concurrent-jobs", "1"]).await;
+    let c = &app.client;
+    for (body, field) in [
+        (r#"{"tube":{"thickness_mm":1e-300}}"#, "tube.thickness_mm"),
+        (
+            r#"{"tube":{"thickness_mm":1,"mean_diameter_mm":1367130551.2,"length_mm":4294967296},"discretization":{"particles_through_thickness":1}}"#,
+            "tube.mean_diameter_mm",
+        ),
+        (r#"{"tube":{"length_mm":1e300}}"#, "tube.length_mm"),
+    ] {
+        for route in ["/v1/jobs", "/v1/estimate"] {
+            let r = c
+                .post(app.at(route))
+                .header("content-type", "application/json")
+                .body(body)
+                .send()
+                .await
+                .unwrap();
+            let p = problem(r, 422).await;
+            assert!(fields(&p).contains(&field.to_string()), "{body}: {p}");
+            let detail = p["detail"].as_str().unwrap();
+            assert!(detail.contains("particles"), "{detail}");
+            assert!(!detail.contains("18446744073709551"), "{detail}");
+        }
+    }
+    let list = get_json(c, &app.at("/v1/jobs")).await;
+    assert_eq!(list["jobs"].as_array().unwrap().len(), 0, "{list}");
+    assert_eq!(app.get("/healthz").await.status(), 200);
+}
+
+/// Issue 10: a plate speed of 1e-300 m/s was accepted with an estimate of 1.8e19 steps.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
+    let app = TestApp::start(&[
+        "--concurrent-jobs",
+        "0",
+        "--max-steps",
+        "100000",
+        "--max-particle-steps",
+        "1000000000",
+    ])
+    .await;
+    let c = &app.client;
+    for route in ["/v1/jobs", "/v1/estimate"] {
+        let r = c
+            .post(app.at(route))
+            .json(&json!({"loading": {"plate_speed_m_s": 1e-300}}))
+            .send()
+            .await
+            .unwrap();
+        let p = problem(r, 422).await;
+        let named = fields(&p);
+        for f in [
+            "loading.plate_speed_m_s",
+            "loading.crush_distance_mm",
+            "discretization.cfl",
+            "material.youngs_modulus_mpa",
+            "material.density_kg_m3",
+            "discretization.particles_through_thickness",
+        ] {
+            assert!(named.contains(&f.to_string()), "{f} not in {named:?}");
+        }
+        assert!(
+            p["detail"].as_str().unwrap().contains("limit of 100000"),
+            "{p}"
+        );
+        // The default case: 33 155 particles × 15 687 steps = 5.2e8 particle-steps, under
+        // 1e9; at n = 6 (examples/axial_t3.2.json), 112 112 × 23 531 = 2.6e9, over.
+        let fine = json!({"discretization": {"particles_through_thickness": 6}});
+        let p = problem(c.post(app.at(route)).json(&fine).send().await.unwrap(), 422).await;
+        assert!(
+            p["detail"].as_str().unwrap().contains("particle-steps"),
+            "{p}"
+        );
+    }
+    let ok = c
+        .post(app.at("/v1/estimate"))
+        .json(&json!({}))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(ok.status(), 200);
+    let estimate: Value = ok.json().await.unwrap();
+    assert_eq!(estimate["steps"], 15687, "{estimate}");
+}
+
+/// Issue 10: a job stored by an older version whose count had wrapped crashed the server when
+/// the worker built its scene, at every restart. Now the worker checks the case again and
+/// fails the job with the reason.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stored_job_that_would_overflow_fails_with_the_reason_instead_of_crashing() {
+    use crush::service::store::{NewJob, Store};
+    let dir = tempfile::tempdir().unwrap();
+    let db = database_url(dir.path());
+    let store = Store::open(&db).await.unwrap();
+    let id = uuid::Uuid::new_v4();
+    let case = r#"{"discretization":{"particles_through_thickness":1},"tube":{"length_mm":4294967296,"mean_diameter_mm":1367130551.2,"thickness_mm":1}}"#;
+    store
+        .submit(
+            NewJob {
+                id,
+                case_json: case.into(),
+                label: None,
+                particles: 0,
+                idempotency_key: None,
+            },
+            10,
+        )
+        .await
+        .unwrap();
+    store.close().await;
+    let args = crush::service::ServeArgs::from_flags([
+        "--port",
+        "0",
+        "--database-url",
+        db.as_str(),
+        "--threads-per-job",
+        "1",
+    ])
+    .unwrap();
+    let server = crush::service::start(args).await.unwrap();
+    let url = format!("http://{}", server.addr);
+    let c = client();
+    let job = wait_for(
+        &c,
+        &url,
+        &id.to_string(),
+        &["failed"],
+        Duration::from_secs(20),
+    )
+    .await;
+    let error = job["error"].as_str().unwrap();
+    assert!(
+        error.contains("tube.mean_diameter_mm") && error.contains("particles"),
+        "{error}"
+    );
+    assert_eq!(
+        c.get(format!("{url}/healthz"))
+            .send()
+            .await
+            .unwrap()
+            .status(),
+        200
+    );
+    server.stop().await.unwrap();
+}
+
+/// Issue 10's smaller items: a body that is not one JSON object, a body without a content type,
+/// ids in other spellings, and a cursor that was a row number.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bodies_ids_and_cursors_are_read_one_way_only() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let c = &app.client;
+    let send = |route: &str, ct: Option<&str>, body: &'static str| {
+        let mut r = c.post(app.at(route)).body(body);
+        if let Some(ct) = ct {
+            r = r.header("content-type", ct);
+        }
+        r.send()
+    };
+    // `[]` was a default case; `/v1/estimate` took trailing text and two documents. Every
+    // route that takes a body now reads it the same way.
+    for route in ["/v1/jobs", "/v1/estimate", "/v1/sweeps"] {
+        for body in ["[]", "[{}]", "{} x", "{}{}", "{} {}", "null", "\"{}\""] {
+            let r = send(route, Some("application/json"), body).await.unwrap();
+            problem(r, 400).await;
+        }
+        // A missing content type is 415, as the README promises.
+        let r = send(route, None, "{}").await.unwrap();
+        let p = problem(r, 415).await;
+        assert!(
+            p["detail"].as_str().unwrap().contains("application/json"),
+            "{p}"
+        );
+    }
+    let r = send("/v1/estimate", Some("application/json"), " {}\n")
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+
+    // Ids: only the hyphenated form (either case); braced, URN and plain hex are 404.
+    let first = app.submit(&tiny_case()).await;
+    let second = app.submit(&tiny_case()).await;
+    let id = first["id"].as_str().unwrap().to_string();
+    let uuid = uuid::Uuid::parse_str(&id).unwrap();
+    assert_eq!(app.get(&format!("/v1/jobs/{id}")).await.status(), 200);
+    let upper = id.to_uppercase();
+    assert_eq!(app.get(&format!("/v1/jobs/{upper}")).await.status(), 200);
+    for other in [
+        uuid.braced().to_string(),
+        uuid.urn().to_string(),
+        uuid.simple().to_string(),
+    ] {
+        let path = format!("/v1/jobs/{other}");
+        problem(app.get(&path).await, 404).await;
+        problem(app.get(&format!("{path}/history")).await, 404).await;
+        problem(app.post(&format!("{path}/cancel")).await, 404).await;
+    }
+
+    // The cursor is opaque (not a row number) and still pages; a made-up one is 400.
+    let page = get_json(c, &app.at("/v1/jobs?limit=1")).await;
+    assert_eq!(page["jobs"][0]["id"], second["id"]);
+    let cursor = page["next_cursor"].as_str().unwrap().to_string();
+    assert!(cursor.parse::<i64>().is_err(), "{cursor}");
+    let page = get_json(c, &app.at(&format!("/v1/jobs?limit=1&cursor={cursor}"))).await;
+    assert_eq!(page["jobs"][0]["id"], first["id"]);
+    assert!(page["next_cursor"].is_null(), "{page}");
+    for bad in ["1", "2", "999", "a%2Fb"] {
+        let p = problem(app.get(&format!("/v1/jobs?cursor={bad}")).await, 400).await;
+        assert_eq!(p["field"], "cursor", "{p}");
+    }
 }

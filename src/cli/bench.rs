@@ -86,9 +86,7 @@ impl Sample {
 pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
     let mut text = String::new();
     std::io::stdin().read_to_string(&mut text)?;
-    let limits = Limits {
-        max_particles: u64::MAX,
-    };
+    let limits = Limits::unbounded();
     let case = Case::from_json(&text, &limits).map_err(|e| anyhow::anyhow!("{e}"))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
@@ -182,13 +180,8 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
             case["discretization"]["shape"] = shape.as_str().into();
             let json = serde_json::to_string(&case)?;
             // Parse here too, so a bad shape or n is reported before anything runs.
-            Case::from_json(
-                &json,
-                &Limits {
-                    max_particles: u64::MAX,
-                },
-            )
-            .map_err(|e| anyhow::anyhow!("shape {shape}, n {n}: {e}"))?;
+            Case::from_json(&json, &Limits::unbounded())
+                .map_err(|e| anyhow::anyhow!("shape {shape}, n {n}: {e}"))?;
             for &threads in &args.threads {
                 let mut row = Row {
                     shape: shape.clone(),

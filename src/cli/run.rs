@@ -27,6 +27,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         &text,
         &Limits {
             max_particles: args.max_particles,
+            ..Limits::unbounded()
         },
     ) {
         Ok(case) => case,

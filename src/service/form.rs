@@ -230,6 +230,85 @@ mod tests {
         }
     }
 
+    /// `api/openapi.yaml`'s schema of the field at a dotted path.
+    fn contract_schema(doc: &serde_yaml::Value, field: &str) -> serde_yaml::Value {
+        let mut at = &doc["components"]["schemas"]["Case"];
+        for part in field.split('.') {
+            at = &at["properties"][part];
+        }
+        at.clone()
+    }
+
+    #[test]
+    fn the_contract_carries_every_bound_of_this_table() {
+        // One source for both: the schema's bounds, types, choices and defaults are the ones
+        // this table serves (and the test above holds to the server).
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
+        let doc: serde_yaml::Value =
+            serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let num = |v: &serde_yaml::Value| v.as_f64();
+        for f in fields() {
+            let s = contract_schema(&doc, f.field);
+            let name = f.field;
+            assert!(!s.is_null(), "{name} is not in the contract");
+            let kind = match f.kind {
+                Kind::Number => "number",
+                Kind::Integer => "integer",
+                Kind::Choice | Kind::Text => "string",
+                Kind::Boolean => "boolean",
+            };
+            assert_eq!(s["type"].as_str(), Some(kind), "{name}: type");
+            let (min_key, other_min) = match f.min_exclusive {
+                true => ("exclusiveMinimum", "minimum"),
+                false => ("minimum", "exclusiveMinimum"),
+            };
+            assert_eq!(num(&s[min_key]), f.min, "{name}: {min_key}");
+            assert!(s[other_min].is_null(), "{name}: {other_min}");
+            let (max_key, other_max) = match f.max_exclusive {
+                true => ("exclusiveMaximum", "maximum"),
+                false => ("maximum", "exclusiveMaximum"),
+            };
+            assert!(s[other_max].is_null(), "{name}: {other_max}");
+            match (f.max, name) {
+                // u64: the schema's maximum is the type's, which this table leaves open.
+                (None, "trigger.seed") => {
+                    assert_eq!(s["maximum"].as_u64(), Some(u64::MAX), "{name}")
+                }
+                (max, _) => assert_eq!(num(&s[max_key]), max, "{name}: {max_key}"),
+            }
+            let choices: Vec<&str> = s["enum"]
+                .as_sequence()
+                .map_or(vec![], |e| e.iter().filter_map(|c| c.as_str()).collect());
+            assert_eq!(choices, f.choices, "{name}: enum");
+            let default: Value = serde_yaml::from_value(s["default"].clone()).unwrap();
+            let same = match (default.as_f64(), f.default.as_f64()) {
+                (Some(a), Some(b)) => a == b,
+                _ => default == f.default,
+            };
+            assert!(
+                same,
+                "{name}: default {default} in the contract, {} here",
+                f.default
+            );
+        }
+        // Each section and the case itself reject unknown fields, as serde does.
+        let case = &doc["components"]["schemas"]["Case"];
+        assert_eq!(case["additionalProperties"].as_bool(), Some(false));
+        for (section, schema) in case["properties"].as_mapping().unwrap() {
+            if schema["type"].as_str() == Some("object") {
+                assert_eq!(
+                    schema["additionalProperties"].as_bool(),
+                    Some(false),
+                    "{section:?}"
+                );
+            }
+        }
+        assert_eq!(
+            contract_schema(&doc, "label")["maxLength"].as_u64(),
+            Some(200)
+        );
+    }
+
     #[test]
     fn every_choice_is_accepted_and_others_are_not() {
         for f in fields().into_iter().filter(|f| f.kind == Kind::Choice) {

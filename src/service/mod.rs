@@ -43,8 +43,14 @@ pub struct ServeArgs {
     #[arg(long, env = "CRUSH_MAX_BODY_BYTES", default_value_t = 1 << 20)]
     pub max_body_bytes: usize,
     /// Largest case, particles.
-    #[arg(long, env = "CRUSH_MAX_PARTICLES", default_value_t = 5_000_000)]
+    #[arg(long, env = "CRUSH_MAX_PARTICLES", default_value_t = crate::solver::Limits::default().max_particles)]
     pub max_particles: u64,
+    /// Longest case, explicit steps (estimated at the initial time step).
+    #[arg(long, env = "CRUSH_MAX_STEPS", default_value_t = crate::solver::Limits::default().max_steps)]
+    pub max_steps: u64,
+    /// Costliest case, particles × steps (sets the wall time).
+    #[arg(long, env = "CRUSH_MAX_PARTICLE_STEPS", default_value_t = crate::solver::Limits::default().max_particle_steps)]
+    pub max_particle_steps: u64,
     /// Most jobs waiting in the queue; a submit beyond it gets 503.
     #[arg(long, env = "CRUSH_MAX_QUEUE", default_value_t = 1000)]
     pub max_queue: u64,
@@ -163,12 +169,17 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
 
     let (shutdown, shutdown_rx) = watch::channel(false);
     let hub = hub::Hub::new(1024);
+    let case_limits = crate::solver::Limits {
+        max_particles: args.max_particles,
+        max_steps: args.max_steps,
+        max_particle_steps: args.max_particle_steps,
+    };
     let config = WorkerConfig {
         concurrent_jobs: args.concurrent_jobs,
         threads_per_job: threads,
-        limits: crate::solver::Limits {
-            max_particles: args.max_particles,
-        },
+        // The worker checks each claimed case again: a job stored by an older version, or
+        // under larger limits, fails with the reason instead of running.
+        limits: case_limits,
         heartbeat,
         stale_after,
         max_attempts: args.max_attempts,
@@ -177,7 +188,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
     let workers = Workers::new(store.clone(), hub.clone(), config, shutdown_rx.clone());
     let limits = HttpLimits {
         max_body_bytes: args.max_body_bytes,
-        max_particles: args.max_particles,
+        case: case_limits,
         max_queue: args.max_queue,
         max_sweep_jobs: args.max_sweep_jobs,
         max_sse_clients: args.max_sse_clients,

@@ -202,16 +202,44 @@ impl Default for Output {
     }
 }
 
-/// Limits a caller puts on what it is willing to run.
-#[derive(Debug, Clone, Copy)]
+/// Limits a caller puts on what it is willing to run. Every count is computed in floating
+/// point before it is compared, so no case can overflow its way past a limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Limits {
+    /// Tube particles (never more than [`PARTICLE_ID_LIMIT`], whatever this says).
     pub max_particles: u64,
+    /// Explicit steps at the initial time step.
+    pub max_steps: u64,
+    /// Particles × steps: the work of the run, which sets its wall time.
+    pub max_particle_steps: u64,
 }
 
+/// The solver numbers particles with `u32` ids: no case may have more, whatever the limits.
+pub const PARTICLE_ID_LIMIT: u64 = u32::MAX as u64;
+
 impl Default for Limits {
+    /// The server's defaults. Each admits every case in `examples/` at its own resolution with
+    /// room: the costliest there, axial_t0.76_d19.81 (n = 4), needs 525 310 particles, 66 051
+    /// steps and 3.47e10 particle-steps, so the margins are 9.5× on particles, 151× on steps
+    /// and 14× on particle-steps (`every_example_case_fits_the_default_limits_with_room` holds
+    /// them). 5e11 particle-steps is about 56 h on one thread at the estimate's 2.5 M/s; 1e7
+    /// steps bounds the per-step overhead of a small case that creeps.
     fn default() -> Self {
         Limits {
             max_particles: 5_000_000,
+            max_steps: 10_000_000,
+            max_particle_steps: 500_000_000_000,
+        }
+    }
+}
+
+impl Limits {
+    /// No limit but the particle ids' (bench runs, and re-reading a job that already ran).
+    pub const fn unbounded() -> Limits {
+        Limits {
+            max_particles: PARTICLE_ID_LIMIT,
+            max_steps: u64::MAX,
+            max_particle_steps: u64::MAX,
         }
     }
 }
@@ -257,6 +285,10 @@ impl fmt::Display for FieldError {
 pub struct Case {
     spec: CaseSpec,
     crush_distance_mm: f64,
+    /// Exact, and within the limits `parse` was given.
+    particles: u64,
+    /// Estimated at the initial time step, within the limits `parse` was given.
+    steps: u64,
 }
 
 impl Case {
@@ -300,6 +332,20 @@ impl Case {
             LoadingMode::Lateral => 12.5,
         });
         let wave = wave_speed_m_s(m);
+        let material_ok = [m.youngs_modulus_mpa, m.density_kg_m3]
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0);
+        if material_ok && !wave.is_finite() {
+            // E / ρ overflows (E = 1e308 MPa, or ρ = 1e-300 kg/m³): no time step would be
+            // stable, and the run would never advance (found by tests/case_fuzz.rs).
+            for f in ["material.youngs_modulus_mpa", "material.density_kg_m3"] {
+                c.fail(
+                    f,
+                    "gives a wave speed sqrt(E / density) too large to compute; \
+                     the ratio of E (MPa) to density (kg/m³) must be below about 1e300",
+                );
+            }
+        }
         if wave.is_finite() && l.plate_speed_m_s.is_finite() && l.plate_speed_m_s > 0.5 * wave {
             c.fail(
                 "loading.plate_speed_m_s",
@@ -370,25 +416,18 @@ impl Case {
                 c.fail("label", "must be at most 200 characters");
             }
         }
-        if c.errors.is_empty() {
-            let n = particle_count(&spec);
-            if n > limits.max_particles {
-                c.fail(
-                    "discretization.particles_through_thickness",
-                    &format!(
-                        "gives {n} particles, more than this runner's limit of {}",
-                        limits.max_particles
-                    ),
-                );
-            }
+        if !c.errors.is_empty() {
+            return Err(CaseError::Invalid(c.errors));
         }
-        if c.errors.is_empty() {
-            Ok(Case {
+        let (particles, steps) = c.costs(&spec, crush, limits);
+        match (particles, steps) {
+            (Some(particles), Some(steps)) if c.errors.is_empty() => Ok(Case {
                 spec,
                 crush_distance_mm: crush,
-            })
-        } else {
-            Err(CaseError::Invalid(c.errors))
+                particles,
+                steps,
+            }),
+            _ => Err(CaseError::Invalid(c.errors)),
         }
     }
 
@@ -413,7 +452,13 @@ impl Case {
 
     /// Number of tube particles the scene will hold.
     pub fn particle_count(&self) -> u64 {
-        particle_count(&self.spec)
+        self.particles
+    }
+
+    /// Explicit steps to the end of the crush at the initial time step (the estimate the
+    /// limits were checked against; the run takes more where the material stiffens).
+    pub fn step_count(&self) -> u64 {
+        self.steps
     }
 
     /// Dilatational wave speed of the undeformed material, m/s (= mm/ms).
@@ -422,16 +467,29 @@ impl Case {
     }
 }
 
-/// JSON text → spec, naming the field of a type error or an unknown field.
+/// JSON text → spec, naming the field of a type error or an unknown field. The text must be
+/// one JSON object and nothing after it: serde would read a struct from an array (`[]` is then
+/// the default case) and stop before trailing text.
 pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
+    if !text.trim_start().starts_with('{') {
+        return Err(CaseError::Malformed {
+            field: None,
+            message: "a case must be a JSON object".into(),
+        });
+    }
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let spec = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         CaseError::Malformed {
             field: (path != "." && !path.is_empty()).then_some(path),
             message: e.inner().to_string(),
         }
-    })
+    })?;
+    de.end().map_err(|e| CaseError::Malformed {
+        field: None,
+        message: format!("text after the case: {e}"),
+    })?;
+    Ok(spec)
 }
 
 /// c = √(E(1−ν) / ((1+ν)(1−2ν)ρ)) in m/s, from E in MPa and ρ in kg/m³.
@@ -441,7 +499,8 @@ fn wave_speed_m_s(m: &Material) -> f64 {
     (modulus_pa / m.density_kg_m3).sqrt()
 }
 
-/// Counts particles exactly as the scene lays them out (see `scene.rs`).
+/// Counts particles exactly as the scene lays them out (see `scene.rs`). Only for a case whose
+/// [`particles_f64`] is within [`PARTICLE_ID_LIMIT`]: every term then fits a u64.
 fn particle_count(spec: &CaseSpec) -> u64 {
     let t = spec.tube.thickness_mm;
     let n = spec.discretization.particles_through_thickness as u64;
@@ -451,6 +510,72 @@ fn particle_count(spec: &CaseSpec) -> u64 {
     (0..n)
         .map(|j| around(inner + (j as f64 + 0.5) * h, h) * axial)
         .sum()
+}
+
+/// The same count in floating point, for any case whose fields passed their own checks: it
+/// cannot wrap or saturate (it may be infinite). Exact below 2⁵³, as every term is an integer.
+fn particles_f64(spec: &CaseSpec) -> f64 {
+    let t = spec.tube.thickness_mm;
+    let n = spec.discretization.particles_through_thickness as f64;
+    let h = t / n;
+    let inner = spec.tube.mean_diameter_mm / 2.0 - t / 2.0;
+    let axial = (spec.tube.length_mm / h).round().max(1.0);
+    (0..spec.discretization.particles_through_thickness)
+        .map(|j| {
+            let r = inner + (j as f64 + 0.5) * h;
+            (2.0 * std::f64::consts::PI * r / h).round().max(8.0) * axial
+        })
+        .sum()
+}
+
+/// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point.
+fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
+    let d = &spec.discretization;
+    let cell =
+        spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
+    let speed = spec.loading.plate_speed_m_s;
+    let dt_ms = d.cfl * cell / (wave_speed_m_s(&spec.material) + speed);
+    let steps = crush_mm / speed / dt_ms;
+    // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
+    // underflow over a Δt of 0) is too many, not one (both found by tests/case_fuzz.rs).
+    if steps.is_nan() {
+        f64::INFINITY
+    } else {
+        steps.ceil().max(1.0)
+    }
+}
+
+/// Fields that set the particle count.
+const PARTICLE_FIELDS: &[&str] = &[
+    "tube.thickness_mm",
+    "tube.mean_diameter_mm",
+    "tube.length_mm",
+    "discretization.particles_through_thickness",
+];
+
+/// Fields that set the step count: the duration crush / v over Δt = α · k · t / n / (c + v),
+/// with the wave speed c from E, ν and ρ.
+const STEP_FIELDS: &[&str] = &[
+    "loading.plate_speed_m_s",
+    "loading.crush_distance_mm",
+    "discretization.cfl",
+    "discretization.cell_to_particle_ratio",
+    "discretization.particles_through_thickness",
+    "tube.thickness_mm",
+    "material.youngs_modulus_mpa",
+    "material.poisson_ratio",
+    "material.density_kg_m3",
+];
+
+/// A count for a message: whole below a billion, else in scientific notation.
+fn count(x: f64) -> String {
+    if !x.is_finite() {
+        "more than 1.8e308".into()
+    } else if x < 1e9 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
+    }
 }
 
 /// Particles around a ring of radius r at spacing h (at least 8).
@@ -484,6 +609,69 @@ impl Checker {
         if !(v.is_finite() && v >= lo && v <= hi) {
             self.fail(field, reason);
         }
+    }
+    fn fail_all(&mut self, fields: &[&str], reason: &str) {
+        for f in fields {
+            self.fail(f, reason);
+        }
+    }
+
+    /// Particles and steps of a case whose fields each passed, or the fields that drive
+    /// whichever cost is over its limit, each named with the estimate.
+    fn costs(
+        &mut self,
+        spec: &CaseSpec,
+        crush: f64,
+        limits: &Limits,
+    ) -> (Option<u64>, Option<u64>) {
+        let max_particles = limits.max_particles.min(PARTICLE_ID_LIMIT);
+        let particles = particles_f64(spec);
+        let particles = if particles.is_finite() && particles <= max_particles as f64 {
+            Some(particle_count(spec))
+        } else {
+            self.fail_all(
+                PARTICLE_FIELDS,
+                &format!(
+                    "gives {} particles, more than this runner's limit of {max_particles} \
+                     (the count grows as mean_diameter_mm · length_mm · n² / thickness_mm²)",
+                    count(particles)
+                ),
+            );
+            None
+        };
+        let steps = steps_f64(spec, crush);
+        let steps = if steps.is_finite() && steps <= limits.max_steps as f64 {
+            Some(steps as u64)
+        } else {
+            self.fail_all(
+                STEP_FIELDS,
+                &format!(
+                    "gives {} time steps, more than this runner's limit of {} (steps = \
+                     crush distance / plate speed / Δt, Δt = cfl · cell / (wave speed + plate \
+                     speed), cell = k · thickness / n)",
+                    count(steps),
+                    limits.max_steps
+                ),
+            );
+            None
+        };
+        if let (Some(p), Some(s)) = (particles, steps) {
+            let work = p as f64 * s as f64;
+            if work > limits.max_particle_steps as f64 {
+                let mut fields: Vec<&str> = PARTICLE_FIELDS.to_vec();
+                fields.extend(STEP_FIELDS.iter().filter(|f| !PARTICLE_FIELDS.contains(f)));
+                self.fail_all(
+                    &fields,
+                    &format!(
+                        "gives {p} particles × {s} time steps = {} particle-steps, more than \
+                         this runner's limit of {}",
+                        count(work),
+                        limits.max_particle_steps
+                    ),
+                );
+            }
+        }
+        (particles, steps)
     }
 }
 
@@ -545,6 +733,7 @@ mod tests {
             text,
             &Limits {
                 max_particles: 100_000,
+                ..Limits::default()
             },
         )
         .unwrap_err();
@@ -553,6 +742,167 @@ mod tests {
             "{err}"
         );
         assert!(err.to_string().contains("limit of 100000"), "{err}");
+    }
+
+    /// The fields a rejection names, or a panic if the case was accepted.
+    fn rejected_fields(text: &str, limits: &Limits) -> Vec<FieldError> {
+        match Case::from_json(text, limits) {
+            Err(CaseError::Invalid(errors)) => errors,
+            Err(e) => panic!("{text}: malformed? {e}"),
+            Ok(case) => panic!(
+                "{text}: accepted with {} particles, {} steps",
+                case.particle_count(),
+                case.step_count()
+            ),
+        }
+    }
+
+    #[test]
+    fn a_wall_of_1e_300_mm_is_refused_not_counted_as_4_particles() {
+        // Issue 10: the u64 count saturated and wrapped to 4, the case was accepted and the
+        // scene tried to build ~2⁶⁴ particles.
+        let errors = rejected_fields(r#"{"tube":{"thickness_mm":1e-300}}"#, &Limits::default());
+        let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+        assert!(named.contains(&"tube.thickness_mm"), "{errors:?}");
+        let reason = &errors[0].reason;
+        assert!(
+            reason.contains("particles") && reason.contains("5000000"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn a_kilometre_tube_is_refused_not_counted_as_0_particles() {
+        // Issue 10: 2⁶⁴ particles exactly wrapped to 0.
+        let text = r#"{"tube":{"thickness_mm":1,"mean_diameter_mm":1367130551.2,"length_mm":4294967296},"discretization":{"particles_through_thickness":1}}"#;
+        let errors = rejected_fields(text, &Limits::unbounded());
+        assert!(
+            errors.iter().any(|e| e.field == "tube.mean_diameter_mm"
+                && e.reason.contains("gives 1.84e19 particles")),
+            "{errors:?}"
+        );
+    }
+
+    #[test]
+    fn a_1e300_mm_tube_reports_its_count_without_saturating() {
+        // Issue 10: the 422 said "gives 18446744073709551267 particles" (a saturated u64).
+        let errors = rejected_fields(r#"{"tube":{"length_mm":1e300}}"#, &Limits::default());
+        let reason = &errors
+            .iter()
+            .find(|e| e.field == "tube.length_mm")
+            .unwrap()
+            .reason;
+        assert!(reason.contains("e30"), "{reason}");
+        assert!(!reason.contains("18446744073709551"), "{reason}");
+    }
+
+    #[test]
+    fn no_limit_admits_more_particles_than_their_u32_ids() {
+        // Even unbounded, n = 16 through a 1e-3 mm wall of a 1 m tube is refused.
+        let text = r#"{"tube":{"thickness_mm":0.001,"length_mm":1000},"discretization":{"particles_through_thickness":16}}"#;
+        let errors = rejected_fields(text, &Limits::unbounded());
+        assert!(
+            errors[0].reason.contains(&PARTICLE_ID_LIMIT.to_string()),
+            "{errors:?}"
+        );
+    }
+
+    #[test]
+    fn a_plate_speed_of_1e_300_is_refused_for_its_steps() {
+        // Issue 10: accepted with an estimate of 1.8e19 steps (a saturated u64).
+        let errors = rejected_fields(
+            r#"{"loading":{"plate_speed_m_s":1e-300}}"#,
+            &Limits::default(),
+        );
+        let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+        for f in [
+            "loading.plate_speed_m_s",
+            "discretization.cfl",
+            "loading.crush_distance_mm",
+        ] {
+            assert!(named.contains(&f), "{f} not in {named:?}");
+        }
+        assert!(errors[0].reason.contains("time steps"), "{errors:?}");
+        // Unbounded steps still refuses what no u64 can count.
+        rejected_fields(
+            r#"{"loading":{"plate_speed_m_s":1e-300}}"#,
+            &Limits::unbounded(),
+        );
+    }
+
+    #[test]
+    fn extreme_material_values_are_refused_for_their_steps() {
+        // Issue 10's probe: each of these exceeded 1e8 steps and was accepted.
+        for text in [
+            r#"{"loading":{"plate_speed_m_s":1e-9}}"#,
+            r#"{"discretization":{"cfl":5e-324}}"#,
+            r#"{"material":{"youngs_modulus_mpa":1e308}}"#,
+            r#"{"material":{"density_kg_m3":1e-308}}"#,
+        ] {
+            let errors = rejected_fields(text, &Limits::default());
+            assert!(
+                errors
+                    .iter()
+                    .all(|e| STEP_FIELDS.contains(&e.field.as_str())),
+                "{text}: {errors:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_infinite_wave_speed_is_refused_not_run_with_a_zero_time_step() {
+        // Found by tests/case_fuzz.rs: ρ = 1e-300 gave c = ∞, Δt = 0, and with a crush of
+        // 5e-324 mm, 0 / 0 steps, which counted as one: the run would never advance.
+        let text =
+            r#"{"material":{"density_kg_m3":1e-300},"loading":{"crush_distance_mm":5e-324}}"#;
+        let errors = rejected_fields(text, &Limits::unbounded());
+        assert!(
+            errors.iter().any(|e| e.field == "material.density_kg_m3"),
+            "{errors:?}"
+        );
+        let case = Case::from_json(
+            r#"{"loading":{"crush_distance_mm":5e-324}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(case.step_count(), 1);
+    }
+
+    #[test]
+    fn too_much_work_names_every_field_that_drives_it() {
+        let limits = Limits {
+            max_particle_steps: 1_000_000,
+            ..Limits::default()
+        };
+        let errors = rejected_fields("{}", &limits);
+        let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+        for f in PARTICLE_FIELDS.iter().chain(STEP_FIELDS) {
+            assert!(named.contains(f), "{f} not in {named:?}");
+        }
+        assert!(errors[0].reason.contains("particle-steps"), "{errors:?}");
+    }
+
+    #[test]
+    fn every_example_case_fits_the_default_limits_with_room() {
+        // The margins stated on `Limits::default`: an example that needs more than a fifth
+        // of a limit fails this, so the default cannot drift down to where examples no longer
+        // run at their own resolution.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let limits = Limits::default();
+        let mut seen = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let case = Case::from_json(&text, &limits)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let (p, s) = (case.particle_count(), case.step_count());
+            let name = path.display();
+            assert!(p * 5 <= limits.max_particles, "{name}: {p} particles");
+            assert!(s * 5 <= limits.max_steps, "{name}: {s} steps");
+            assert!(p * s * 5 <= limits.max_particle_steps, "{name}: {p} × {s}");
+            seen += 1;
+        }
+        assert!(seen >= 7);
     }
 
     #[test]
@@ -566,6 +916,20 @@ mod tests {
         let err = Case::from_json(r#"{"tube": {"wall": 1}}"#, &Limits::default()).unwrap_err();
         assert!(err.to_string().contains("wall"), "{err}");
         assert!(Case::from_json("{", &Limits::default()).is_err());
+    }
+
+    #[test]
+    fn an_array_or_trailing_text_is_not_a_case() {
+        // Issue 10: `[]` was read as the default case, and `/v1/estimate` took `{} x` and `{}{}`.
+        for text in [
+            "[]", "[1]", "3", "\"{}\"", "null", "{} x", "{}{}", "{} {}", "{},",
+        ] {
+            match Case::from_json(text, &Limits::default()) {
+                Err(CaseError::Malformed { .. }) => {}
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+        assert!(Case::from_json(" {}\n ", &Limits::default()).is_ok());
     }
 
     #[test]

@@ -40,9 +40,8 @@ pub fn estimate(case: &Case, threads: u32) -> Estimate {
     let particles = case.particle_count();
     let k = spec.discretization.cell_to_particle_ratio;
     let cells = (particles as f64 / (k * k * k)).ceil() as u64;
-    let speed = spec.loading.plate_speed_m_s;
-    let dt = spec.discretization.cfl * case.cell_mm() / (case.wave_speed_m_s() + speed);
-    let steps = (case.crush_distance_mm() / speed / dt).ceil() as u64;
+    // Both counts were computed, and held to the caller's limits, by `Case::parse`.
+    let steps = case.step_count();
     let rate =
         assumed_particle_steps_per_s_per_thread(spec.discretization.shape) * threads.max(1) as f64;
     Estimate {

@@ -4,13 +4,15 @@ use super::{json_text, parse_id, AppState, HttpLimits};
 use crate::service::error::ApiError;
 use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
-use crate::solver::{case::spec_from_json, Case, Limits};
+use crate::solver::{case::spec_from_json, Case};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use base64::engine::general_purpose::URL_SAFE_NO_PAD;
+use base64::Engine;
 use serde::Deserialize;
 use uuid::Uuid;
 
@@ -26,12 +28,7 @@ pub(crate) fn prepare(
 ) -> Result<NewJob, ApiError> {
     let spec = spec_from_json(text)?;
     let label = spec.label.clone();
-    let case = Case::parse(
-        spec,
-        &Limits {
-            max_particles: limits.max_particles,
-        },
-    )?;
+    let case = Case::parse(spec, &limits.case)?;
     // Stored as submitted, in a canonical form so that a retried submit compares equal.
     let value: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| ApiError::bad_request(format!("malformed JSON: {e}"), None))?;
@@ -155,7 +152,7 @@ pub async fn list(
     };
     let before = match p.cursor.as_deref() {
         None | Some("") => None,
-        Some(c) => Some(c.parse::<i64>().map_err(|_| {
+        Some(c) => Some(decode_cursor(c).ok_or_else(|| {
             ApiError::bad_request("cursor is not one this server gave out", Some("cursor"))
         })?),
     };
@@ -168,13 +165,29 @@ pub async fn list(
     let mut records = s.store.list(&filter).await?;
     let next_cursor = if records.len() > limit as usize {
         records.truncate(limit as usize);
-        records.last().map(|r| r.seq.to_string())
+        records.last().map(|r| encode_cursor(r.seq))
     } else {
         None
     };
     let jobs: Vec<JobView> = records.iter().map(|r| JobView::new(r, false)).collect();
     Ok(Json(serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor })).into_response())
 }
+
+/// The list cursor clients get: where the page ended, tagged and base64url-encoded so that it
+/// reads as the opaque token the contract promises (and can change form without breaking
+/// clients).
+fn encode_cursor(seq: i64) -> String {
+    URL_SAFE_NO_PAD.encode(format!("{CURSOR_TAG}{seq}"))
+}
+
+fn decode_cursor(cursor: &str) -> Option<i64> {
+    let bytes = URL_SAFE_NO_PAD.decode(cursor).ok()?;
+    let text = std::str::from_utf8(&bytes).ok()?;
+    let seq: i64 = text.strip_prefix(CURSOR_TAG)?.parse().ok()?;
+    (seq > 0).then_some(seq)
+}
+
+const CURSOR_TAG: &str = "jobs-before:";
 
 pub async fn get(
     State(s): State<AppState>,
@@ -208,6 +221,30 @@ pub async fn cancel(
         CancelOutcome::Requested(r) => {
             s.workers.cancel(uuid);
             Ok((StatusCode::ACCEPTED, Json(JobView::new(&r, false))).into_response())
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cursor_is_opaque_and_round_trips() {
+        // Issue 10: the cursor was the raw row number.
+        for seq in [1, 42, i64::MAX] {
+            let c = encode_cursor(seq);
+            assert!(c.parse::<i64>().is_err(), "{c}");
+            assert_eq!(decode_cursor(&c), Some(seq));
+        }
+        for bad in [
+            "42",
+            "abc",
+            "",
+            "!!",
+            &URL_SAFE_NO_PAD.encode("jobs-before:0"),
+        ] {
+            assert_eq!(decode_cursor(bad), None, "{bad}");
         }
     }
 }

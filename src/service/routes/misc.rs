@@ -3,7 +3,7 @@
 use super::{json_text, AppState};
 use crate::service::error::ApiError;
 use crate::service::store::Status;
-use crate::solver::{case::spec_from_json, estimate as solver_estimate, Case, Estimate, Limits};
+use crate::solver::{case::spec_from_json, estimate as solver_estimate, Case, Estimate};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::State;
@@ -95,12 +95,7 @@ pub async fn estimate(
 ) -> Result<Json<Estimate>, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let spec = spec_from_json(&text)?;
-    let case = Case::parse(
-        spec,
-        &Limits {
-            max_particles: s.limits.max_particles,
-        },
-    )?;
+    let case = Case::parse(spec, &s.limits.case)?;
     Ok(Json(solver_estimate(
         &case,
         s.workers.threads_per_job() as u32,

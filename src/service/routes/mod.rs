@@ -12,6 +12,7 @@ use super::error::{ApiError, PROBLEM_JSON};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
+use crate::solver::Limits;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{DefaultBodyLimit, Request};
@@ -27,7 +28,8 @@ use tokio::sync::{watch, Semaphore};
 #[derive(Debug, Clone)]
 pub struct HttpLimits {
     pub max_body_bytes: usize,
-    pub max_particles: u64,
+    /// What a case may cost (particles, steps, particle-steps).
+    pub case: Limits,
     pub max_queue: u64,
     pub max_sweep_jobs: usize,
     pub max_sse_clients: usize,
@@ -129,18 +131,23 @@ async fn problem_everywhere(response: Response) -> Response {
     problem
 }
 
-/// The body of a JSON request as text: checks the content type, the size and UTF-8.
+/// The body of a JSON request as text, for every route that takes one: checks the content
+/// type (a body without one is 415, as for any other type), the size and UTF-8.
 pub(crate) fn json_text(
     headers: &HeaderMap,
     body: Result<Bytes, BytesRejection>,
     limit: usize,
 ) -> Result<String, ApiError> {
-    if let Some(ct) = headers.get(header::CONTENT_TYPE) {
-        let ct = ct.to_str().unwrap_or("").to_ascii_lowercase();
-        let essence = ct.split(';').next().unwrap_or("").trim();
-        if essence != "application/json" && !essence.ends_with("+json") {
-            return Err(ApiError::UnsupportedMediaType(essence.to_string()));
-        }
+    let ct = headers
+        .get(header::CONTENT_TYPE)
+        .map(|ct| ct.to_str().unwrap_or("").to_ascii_lowercase());
+    let essence = ct
+        .as_deref()
+        .map(|ct| ct.split(';').next().unwrap_or("").trim());
+    match essence {
+        Some(e) if e == "application/json" || e.ends_with("+json") => {}
+        Some(e) => return Err(ApiError::UnsupportedMediaType(e.to_string())),
+        None => return Err(ApiError::UnsupportedMediaType("(none)".into())),
     }
     let bytes = body.map_err(|e| {
         if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
@@ -212,9 +219,15 @@ pub(crate) fn csv_response(text: String, filename: &str) -> Response {
     )
 }
 
-/// A path id: a UUID, or the thing is not found.
+/// A path id: a UUID in the hyphenated form this server gives out (8-4-4-4-12 hex digits,
+/// either case), or the thing is not found. The braced, `urn:uuid:` and plain-hex spellings
+/// `Uuid::parse_str` also reads are 404 too: one resource, one URL.
 pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
-    uuid::Uuid::parse_str(raw).map_err(|_| ApiError::NotFound {
+    let not_found = || ApiError::NotFound {
         what: format!("{what} {raw}"),
-    })
+    };
+    if raw.len() != 36 {
+        return Err(not_found());
+    }
+    uuid::Uuid::parse_str(raw).map_err(|_| not_found())
 }

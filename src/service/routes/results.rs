@@ -41,13 +41,8 @@ async fn final_state(
     let why = format!("its {what} is made from the final state stored when it succeeds");
     let record = succeeded(s, id, &why).await?;
     let corrupt = |m: String| ApiError::internal(std::io::Error::other(m));
-    let case = Case::from_json(
-        &record.case_json,
-        &Limits {
-            max_particles: u64::MAX,
-        },
-    )
-    .map_err(|e| corrupt(format!("stored case of job {id}: {e}")))?;
+    let case = Case::from_json(&record.case_json, &Limits::unbounded())
+        .map_err(|e| corrupt(format!("stored case of job {id}: {e}")))?;
     let Some((particles, bytes)) = s.store.final_state(record.id).await? else {
         let why = if case.spec().output.final_state {
             "it finished before this server kept final states"

@@ -23,8 +23,15 @@ pub async fn create(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
+    // serde would read the struct from an array too.
+    if !text.trim_start().starts_with('{') {
+        return Err(ApiError::bad_request(
+            "malformed sweep: a sweep must be a JSON object",
+            None,
+        ));
+    }
     let de = &mut serde_json::Deserializer::from_str(&text);
-    let req: SweepRequest = serde_path_to_error::deserialize(de).map_err(|e| {
+    let req: SweepRequest = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         let field = (path != "." && !path.is_empty()).then_some(path);
         ApiError::BadRequest {
@@ -32,6 +39,8 @@ pub async fn create(
             field,
         }
     })?;
+    de.end()
+        .map_err(|e| ApiError::bad_request(format!("text after the sweep: {e}"), None))?;
     let params = parameters(&req, s.limits.max_sweep_jobs).map_err(unprocessable)?;
     let mut base = req.base.clone();
     if let (Some(label), Some(object)) = (&req.label, base.as_object_mut()) {
