@@ -26,29 +26,75 @@ fn run_on(case: &Case, threads: usize) -> RunOutput {
         .unwrap()
 }
 
-/// The plates' work must reappear as kinetic + internal energy + friction work. Explicit MPM
-/// loses a little to the FLIP/MUSL transfers and the contact projection; explicit codes call a
-/// run healthy below 5 %, the bound asked for.
+/// The plates' work must reappear as kinetic + internal energy + friction + the contact
+/// projection's catch; what is left is numerical (the FLIP/MUSL transfers, leapfrog's step).
+/// Measured on this coarse crush (n = 2, 6 mm): 1.1 % (5.4 % before the books held the catch
+/// and the friction of sticking nodes, and before the start ramp); 2 % allowed. Every row's
+/// residual column is what its other columns say.
 #[test]
-fn energy_balance_closes_within_five_percent_on_a_coarse_crush() {
+fn energy_balance_closes_within_two_percent_on_a_coarse_crush() {
     let out = run_on(&coarse_axial(), 2);
     assert!(
-        out.summary.energy_balance_error < 0.05,
+        out.summary.energy_balance_error < 0.02,
         "{}",
         out.summary.energy_balance_error
     );
     let last = out.history.last().unwrap();
     assert!(last.external_mj > 0.0 && last.plastic_mj > 0.0 && last.friction_mj >= 0.0);
-    assert!(out
-        .history
-        .iter()
-        .all(|r| r.values().iter().all(|v| v.is_finite())));
+    for r in &out.history {
+        assert!(r.values().iter().all(|v| v.is_finite()), "{r:?}");
+        assert_eq!(r.external_mj, r.work_top_mj + r.work_bottom_mj);
+        assert_eq!(r.residual_mj, r.external_mj - r.booked_mj());
+        assert_eq!(r.elastic_mj, r.internal_mj - r.plastic_mj);
+    }
+    let e = out.summary.energy;
+    assert_eq!(e.residual_mj, last.external_mj - last.booked_mj());
+}
+
+/// The start ramp (`loading.ramp_mm`, default 0.5 mm): the plate comes up to speed instead of
+/// striking the tube at 10 m/s. Measured on the coarse axial crush over 1.5 mm: with the ramp
+/// the load rises steadily (0.8, 1.9, 2.5 … 15 kN, every row above the one before) through the
+/// elastic start; started at full speed the first row is an impact (7.1 kN) and the load rings
+/// between 2.8 and 6 kN for the first 0.8 mm.
+#[test]
+fn the_start_ramp_removes_the_impact() {
+    let load = |ramp: f64| {
+        let c = case(&format!(
+            r#"{{"discretization": {{"particles_through_thickness": 2}},
+                "loading": {{"crush_distance_mm": 1.5, "ramp_mm": {ramp}}},
+                "output": {{"history_points": 30, "final_state": false}}}}"#
+        ));
+        run_on(&c, 2)
+            .history
+            .iter()
+            .filter(|r| r.displacement_mm <= 1.2)
+            .map(|r| r.load_top_n)
+            .collect::<Vec<_>>()
+    };
+    let ramped = load(0.5);
+    assert!(ramped.windows(2).all(|w| w[1] > w[0]), "{ramped:?}");
+    let impact = load(0.0);
+    assert!(impact[0] > 1.5 * impact[1], "{impact:?}");
+}
+
+/// Folds are counted from the final shape: the coarse crush over 20 mm forms one fold at the
+/// moving plate (its section shows one outward lobe of 7 mm, 2.2 t, and barrelling waves of
+/// 0.5 t below it), while its load curve drops twice.
+#[test]
+fn folds_are_counted_from_the_shape_not_the_load_curve() {
+    let c = case(
+        r#"{"discretization": {"particles_through_thickness": 2},
+             "loading": {"crush_distance_mm": 20}, "output": {"history_points": 200}}"#,
+    );
+    let s = run_on(&c, 2).summary;
+    assert_eq!((s.folds, s.load_drops), (1, 2), "{s:?}");
 }
 
 /// The mean load of a crush must lie between two physical limits: below, 0.8 × Alexander's
 /// ring-mode load (a rigid-plastic lower estimate of progressive folding; a coarse grid is
 /// stiffer, not softer); above, 1.1 × the squash load σy·π·d·t, which no section can exceed on
-/// average (10 % for dynamics and the wall thickening under the plates).
+/// average (10 % for dynamics and the wall thickening under the plates). Measured: 12.65 kN,
+/// 1.20 × Alexander and 0.87 × the squash load.
 #[test]
 fn coarse_axial_mean_load_lies_between_alexander_and_the_squash_load() {
     let c = case(
@@ -64,7 +110,7 @@ fn coarse_axial_mean_load_lies_between_alexander_and_the_squash_load() {
         * s.tube.thickness_mm;
     let mean = out.summary.mean_load_n;
     assert!(
-        mean > 0.8 * alexander && mean < 1.13 * squash,
+        mean > 0.8 * alexander && mean < 1.1 * squash,
         "mean {mean} N, Alexander {alexander} N, squash {squash} N"
     );
 }

@@ -21,6 +21,26 @@ function summaryTable(s) {
   return el("table", { id: "summary" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", { class: "num" }, v)))));
 }
 
+// Where the plates' work went (summary.energy, absent in summaries stored before it existed).
+function energyTable(s) {
+  const e = s.energy;
+  if (!e) return el("p", { class: "small muted" }, "This run's summary has no energy books.");
+  const work = e.work_top_mj + e.work_bottom_mj;
+  const rows = [
+    ["Work of the moving plate", e.work_top_mj],
+    ["Work of the fixed plate", e.work_bottom_mj],
+    ["Kinetic energy", e.kinetic_mj],
+    ["Elastic energy", e.elastic_mj],
+    ["Plastic work", e.plastic_mj],
+    ["Friction", e.friction_mj],
+    ["Contact (nodes caught by a plate)", e.contact_mj],
+    ["Residual (numerical error)", e.residual_mj],
+  ];
+  return el("table", { id: "energy" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k),
+    el("td", { class: "num" }, fmt(v / 1000) + " J"),
+    el("td", { class: "num" }, work > 0 ? pct(v / work) : "–")))));
+}
+
 function referenceTable(s, lateral) {
   const r = s.references;
   const mean = s.mean_load_n;
@@ -169,7 +189,8 @@ async function showResult(job, set, side, below) {
   }
   const s = job.summary;
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
-  side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Against closed-form references"),
+  side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Energy books"), energyTable(s),
+    el("h2", {}, "Against closed-form references"),
     referenceTable(s, lateral),
     el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
       lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),

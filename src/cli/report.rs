@@ -44,7 +44,11 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         s.energy_absorbed_mj / 1000.0
     );
     let _ = writeln!(o, "  crush distance   {:.2} mm", s.crush_distance_mm);
-    let _ = writeln!(o, "  folds            {}", s.folds);
+    let _ = writeln!(
+        o,
+        "  folds            {} (from the shape; {} load drops)",
+        s.folds, s.load_drops
+    );
     let _ = writeln!(o, "  mode             {}", mode_name(s.mode));
     let _ = writeln!(o, "                   {}", detail.reason);
     let amps: Vec<String> = detail
@@ -66,6 +70,20 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         o,
         "  energy balance   {:.2} % error",
         100.0 * s.energy_balance_error
+    );
+    let e = &s.energy;
+    let _ = writeln!(
+        o,
+        "                   work top {:.3} J, bottom {:.3} J = kinetic {:.3} + elastic {:.3} \
+         + plastic {:.3} + friction {:.3} + contact {:.3} + residual {:.3} J",
+        e.work_top_mj / 1e3,
+        e.work_bottom_mj / 1e3,
+        e.kinetic_mj / 1e3,
+        e.elastic_mj / 1e3,
+        e.plastic_mj / 1e3,
+        e.friction_mj / 1e3,
+        e.contact_mj / 1e3,
+        e.residual_mj / 1e3
     );
     let _ = writeln!(
         o,
@@ -182,7 +200,9 @@ mod tests {
             energy_absorbed_mj: mean * 50.0,
             crush_distance_mm: 50.0,
             folds: 4,
+            load_drops: 0,
             energy_balance_error: 0.0123,
+            energy: Default::default(),
             kinetic_to_internal: 0.004,
             mode,
             references: references(case),

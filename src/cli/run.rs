@@ -1,9 +1,7 @@
 //! `crush run CASE.json`: parse the case, run it on its own rayon pool with a progress bar,
 //! stop cleanly on Ctrl-C, print the summary and write `history.csv` and `summary.json`.
 //!
-//! The summary is recomputed here from the run's history and final shape with
-//! [`summarize`], so what the CLI reports depends only on the solver's outputs, not on how the
-//! engine filled in its own summary; the engine's run cost is kept.
+//! What it prints and writes is the solver's own summary and mode detail: one source.
 
 use super::output::{
     write_history_csv, write_particles_csv, write_shape_png, write_summary_json, SummaryFile,
@@ -11,14 +9,11 @@ use super::output::{
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::RunArgs;
-use crate::solver::mode::detect_mode;
-use crate::solver::summary::summarize;
-use crate::solver::{self, estimate, Case, Limits, RunCost, SolveError};
+use crate::solver::{self, estimate, Case, Limits, SolveError};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let source = args.case.display().to_string();
@@ -65,9 +60,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         .build()
         .context("starting the solver's thread pool")?;
     let mut observer = BarObserver::new();
-    let start = Instant::now();
     let result = pool.install(|| solver::run(&case, &mut observer, &cancel));
-    let wall = start.elapsed().as_secs_f64();
     observer.bar().finish_and_clear();
 
     let history_path = out_dir.join("history.csv");
@@ -88,9 +81,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
     };
 
-    let cost = complete_cost(output.summary.cost, threads, wall);
-    let summary = summarize(&case, &output.history, &output.snapshot, cost);
-    let (_, mode_detail) = detect_mode(&case, &output.snapshot);
+    let summary = output.summary;
+    let mode_detail = output.mode_detail;
     print!("{}", format_report(&case, &summary, &mode_detail));
 
     write_history_csv(&history_path, &output.history)?;
@@ -120,20 +112,6 @@ fn default_out_dir(case: &Path) -> PathBuf {
         .file_stem()
         .map_or_else(|| "case".into(), |s| s.to_string_lossy().into_owned());
     Path::new("out").join(stem)
-}
-
-/// Fills in what the engine left at zero and the CLI knows: threads, wall time, throughput.
-fn complete_cost(mut cost: RunCost, threads: usize, wall_s: f64) -> RunCost {
-    if cost.threads == 0 {
-        cost.threads = threads as u32;
-    }
-    if cost.wall_time_s <= 0.0 {
-        cost.wall_time_s = wall_s;
-    }
-    if cost.particle_steps_per_s <= 0.0 && cost.wall_time_s > 0.0 {
-        cost.particle_steps_per_s = cost.particles as f64 * cost.steps as f64 / cost.wall_time_s;
-    }
-    cost
 }
 
 /// First Ctrl-C: ask the solver to stop after its current step. Second: quit at once.
@@ -166,26 +144,5 @@ mod tests {
             default_out_dir(Path::new("lateral")),
             Path::new("out/lateral")
         );
-    }
-
-    #[test]
-    fn cost_keeps_the_engine_figures_and_fills_the_gaps() {
-        let engine = RunCost {
-            particles: 1000,
-            steps: 200,
-            ..Default::default()
-        };
-        let c = complete_cost(engine, 4, 2.0);
-        assert_eq!(
-            (c.threads, c.wall_time_s, c.particle_steps_per_s),
-            (4, 2.0, 100_000.0)
-        );
-        let engine = RunCost {
-            threads: 2,
-            wall_time_s: 1.0,
-            particle_steps_per_s: 5.0,
-            ..engine
-        };
-        assert_eq!(complete_cost(engine, 4, 2.0), engine);
     }
 }

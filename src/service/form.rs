@@ -111,6 +111,7 @@ const SPECS: &[Spec] = &[
     other("loading.mode", "Loading", Kind::Choice, &["axial", "lateral"], "Axial: plates normal to the axis. Lateral: the tube lies between the plates."),
     num("loading.plate_speed_m_s", "Plate speed", "m/s", POSITIVE, None, "Below half the material's wave speed."),
     num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral)."),
+    num("loading.ramp_mm", "Start ramp", "mm", Some((0.0, false)), None, "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Less than the crush distance."),
     num("contact.friction", "Plate friction μ", "", Some((0.0, false)), Some((2.0, false)), "Coulomb friction between tube and plates."),
     Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((16.0, false)), "Spacing h = t / n. Cost grows about as n⁴.") },
     num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),

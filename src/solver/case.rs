@@ -98,7 +98,13 @@ pub struct Loading {
     /// How far the top plate travels. Omitted: 50 mm axial, 12.5 mm lateral.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crush_distance_mm: Option<f64>,
+    /// Travel over which the top plate comes up to speed (its velocity rising linearly in
+    /// time), mm; 0 starts it at full speed, an impact. Part of the crush distance.
+    pub ramp_mm: f64,
 }
+
+/// The default plate-speed ramp, mm (see `docs/validation.md`, "The start").
+pub const DEFAULT_RAMP_MM: f64 = 0.5;
 
 impl Default for Loading {
     fn default() -> Self {
@@ -106,6 +112,7 @@ impl Default for Loading {
             mode: LoadingMode::Axial,
             plate_speed_m_s: 10.0,
             crush_distance_mm: None,
+            ramp_mm: DEFAULT_RAMP_MM,
         }
     }
 }
@@ -356,6 +363,14 @@ impl Case {
             );
         }
         c.positive("loading.crush_distance_mm", crush);
+        if !(l.ramp_mm.is_finite() && l.ramp_mm >= 0.0) {
+            c.fail("loading.ramp_mm", "must be a finite number >= 0");
+        } else if crush.is_finite() && l.ramp_mm >= crush {
+            c.fail(
+                "loading.ramp_mm",
+                &format!("must be less than the crush distance ({crush} mm)"),
+            );
+        }
         let room = match l.mode {
             LoadingMode::Axial => t.length_mm,
             LoadingMode::Lateral => t.mean_diameter_mm - t.thickness_mm,

@@ -7,6 +7,7 @@
 pub mod case;
 pub mod contact;
 pub mod estimate;
+pub mod folds;
 pub mod grid;
 pub mod history;
 pub mod material;
@@ -25,7 +26,7 @@ pub use history::HistoryRow;
 pub use mode::{detect_mode, ModeDetail};
 pub use observer::{Observer, Progress, Recorder};
 pub use reference::{references, References};
-pub use summary::{summarize, CollapseMode, RunCost, Summary};
+pub use summary::{summarize, CollapseMode, EnergyBooks, RunCost, Summary};
 
 /// The floating-point type of all solver state.
 pub type Real = f64;
@@ -35,6 +36,8 @@ pub type Real = f64;
 pub struct RunOutput {
     pub history: Vec<HistoryRow>,
     pub summary: Summary,
+    /// The numbers behind `summary.mode`.
+    pub mode_detail: ModeDetail,
     pub snapshot: Snapshot,
 }
 
@@ -64,4 +67,4 @@ pub enum SolveError {
 }
 
 mod run;
-pub use run::run;
+pub use run::{run, run_scene};

@@ -18,12 +18,26 @@ pub fn run(
     observer: &mut dyn Observer,
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
+    run_scene(case, Scene::from_case(case), observer, cancel)
+}
+
+/// [`run`] on a scene built from `case` and then changed: for checks that must run what no
+/// valid case describes (a time step past the stability limit, say) through the same loop and
+/// the same blow-up detection.
+pub fn run_scene(
+    case: &Case,
+    scene: Scene,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
     let start = Instant::now();
     let spec = case.spec();
-    let mut sim = Simulation::new(Scene::from_case(case));
+    let mut sim = Simulation::new(scene);
     let speed = spec.loading.plate_speed_m_s;
     let crush = case.crush_distance_mm();
     let points = spec.output.history_points as usize;
+    let ramp = sim.scene.ramp;
+    // The time the plate would take at full speed; the rows are at equal travel.
     let duration = crush / speed;
     let mut rows = Vec::with_capacity(points);
     let mut cost = RunCost {
@@ -32,7 +46,7 @@ pub fn run(
     };
     let (mut gap_sum, mut gap_rows) = (0.0, 0u32);
     for k in 1..=points {
-        let end = duration * k as Real / points as Real;
+        let end = ramp.time_at(duration * k as Real / points as Real);
         let mut impulse = [0.0; 2];
         let t0 = sim.time;
         let mut kinetic = 0.0;
@@ -51,17 +65,23 @@ pub fn run(
         }
         let interval = sim.time - t0;
         let e = sim.energy;
-        let row = HistoryRow {
+        let mut row = HistoryRow {
             time_ms: sim.time,
-            displacement_mm: speed * sim.time,
+            displacement_mm: speed * ramp.full_speed_time(sim.time),
             load_top_n: impulse[0] / interval,
             load_bottom_n: impulse[1] / interval,
             kinetic_mj: kinetic,
             internal_mj: e.internal,
             plastic_mj: e.plastic,
-            external_mj: e.external,
+            external_mj: e.external(),
             friction_mj: e.friction,
+            elastic_mj: e.internal - e.plastic,
+            work_top_mj: e.work[TOP],
+            work_bottom_mj: e.work[BOTTOM],
+            contact_mj: e.catch,
+            residual_mj: 0.0,
         };
+        row.residual_mj = row.external_mj - row.booked_mj();
         if row.load_top_n > 0.0 {
             gap_sum += contact_gap(&sim);
             gap_rows += 1;
@@ -96,10 +116,11 @@ pub fn run(
     } else {
         0.0
     };
-    let summary = summary::summarize(case, &rows, &snapshot, cost);
+    let (summary, mode_detail) = summary::summarize(case, &rows, &snapshot, cost);
     Ok(RunOutput {
         history: rows,
         summary,
+        mode_detail,
         snapshot,
     })
 }
@@ -107,7 +128,7 @@ pub fn run(
 /// Kinetic energy can never exceed the work the plates put in (the tube starts at rest);
 /// 20 % above it means the integration is creating energy.
 fn runaway(sim: &Simulation, kinetic: Real) -> Result<(), SolveError> {
-    let work = sim.energy.external;
+    let work = sim.energy.external();
     if !kinetic.is_finite() || kinetic > 1.2 * work + 1e-12 {
         return Err(SolveError::Unstable {
             step: sim.steps,

@@ -37,15 +37,26 @@ const RESORT_EVERY: u64 = 100;
 /// surface: far more than the few micrometres it moves in a step, far less than its size.
 const CONTACT_TOLERANCE: Real = 0.05;
 
-/// Energy integrals since the start, mJ.
+/// Energy integrals since the start, mJ. What the plates put in (`work`) goes to kinetic energy,
+/// `internal` energy, the projection's `catch` and `friction`; what is left is numerical.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Energies {
     /// ∫ σ:D dV dt: elastic energy plus plastic work.
     pub internal: Real,
     pub plastic: Real,
-    /// Work of the plates on the tube.
-    pub external: Real,
+    /// Work of each plate (top, bottom) on the tube.
+    pub work: [Real; 2],
+    /// Dissipated by the normal part of the contact projection (nodes caught by a plate).
+    pub catch: Real,
+    /// Dissipated by friction at the plates.
     pub friction: Real,
+}
+
+impl Energies {
+    /// Work of both plates on the tube, mJ.
+    pub fn external(&self) -> Real {
+        self.work[0] + self.work[1]
+    }
 }
 
 /// What the last step did.
@@ -157,6 +168,12 @@ impl Simulation {
     pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
         let stable_dt = self.stable_dt();
         let dt = stable_dt.min(dt_cap);
+        // The plates' mean velocity over the step: their travel in it is exact on the ramp.
+        let ramp = self.scene.ramp;
+        let share = (ramp.full_speed_time(self.time + dt) - ramp.full_speed_time(self.time)) / dt;
+        for plate in &mut self.scene.plates {
+            plate.velocity = plate.full_velocity * share;
+        }
         let (contact, kinetic) = match self.scene.shape {
             ShapeKind::Linear => self.advance::<Linear>(dt),
             ShapeKind::Gimp => self.advance::<Gimp>(dt),
@@ -205,7 +222,9 @@ impl Simulation {
         clock.lap(&mut self.phases.g2p);
         let kinetic = self.update_stress(dt)?;
         clock.lap(&mut self.phases.stress);
-        self.energy.external += contact.work;
+        self.energy.work[0] += contact.work[0];
+        self.energy.work[1] += contact.work[1];
+        self.energy.catch += contact.catch;
         self.energy.friction += contact.friction;
         Ok((contact, kinetic))
     }
@@ -246,9 +265,10 @@ impl Simulation {
                     let (m, v) = (p.mass[q], p.v[q]);
                     // [mass, momentum] (no mass in the remap).
                     let mv = f64x4::new([if FULL { m } else { 0.0 }, m * v.x, m * v.y, m * v.z]);
-                    // Particles touching a plate put their mass in the touch lane.
-                    let touch = if FULL && contact::touches(plates, p.x[q].z, half, tolerance) {
-                        m
+                    // Particles touching a plate put their mass, signed by the plate's side, in
+                    // the touch lane (see `contact::plate_of`).
+                    let touch = if FULL {
+                        m * contact::touching(plates, p.x[q].z, half, tolerance)
                     } else {
                         0.0
                     };
@@ -287,18 +307,17 @@ impl Simulation {
 
     /// Owned nodes: momentum → velocity, add force·dt, apply the plates. Returns contact sums.
     fn grid_update(&mut self, dt: Real) -> ContactSums {
-        let scene = &self.scene;
+        let (plates, mu) = (&self.scene.plates, self.scene.friction);
         let floor = self.mass_floor;
-        let mut owned = std::mem::take(&mut self.grid.owned);
-        let g = &self.grid;
-        self.block_sums.resize(g.len(), ContactSums::default());
-        owned
+        self.block_sums
+            .resize(self.grid.len(), ContactSums::default());
+        self.grid
+            .owned
             .par_chunks_mut(OWNED)
             .zip(self.block_sums.par_iter_mut())
-            .enumerate()
-            .for_each(|(b, (own, sums))| {
+            .for_each(|(own, sums)| {
                 *sums = ContactSums::default();
-                for (local, n) in own.iter_mut().enumerate() {
+                for n in own.iter_mut() {
                     let m = n.mass();
                     if m <= floor {
                         n.set_a(&Vector3::zeros());
@@ -307,22 +326,13 @@ impl Simulation {
                     }
                     let old = n.a() / m;
                     let mut v = old + n.b() * (dt / m);
-                    if n.touch() > 0.0 {
-                        let z = g.owned_position(b, local).z;
-                        contact::apply_nearest(
-                            &scene.plates,
-                            scene.friction,
-                            z,
-                            m,
-                            &mut v,
-                            Some(sums),
-                        );
+                    if let Some(k) = contact::plate_of(plates, n.touch()) {
+                        contact::apply(k, &plates[k], mu, m, &old, &mut v, sums);
                     }
                     n.set_a(&v);
                     n.set_b(&(v - old));
                 }
             });
-        self.grid.owned = owned;
         let mut total = ContactSums::default();
         for s in &self.block_sums {
             total.add(s);
@@ -330,31 +340,28 @@ impl Simulation {
         total
     }
 
-    /// Owned nodes: remapped momentum → velocity, with the plates applied again (no accounting).
+    /// Owned nodes: remapped momentum → velocity, with the plates applied again, so that the
+    /// velocities that move the particles and strain them do not run into a plate. Nothing is
+    /// booked: this pass changes neither the particles' velocities nor their momentum (so
+    /// neither the kinetic energy nor the load); what approaches a plate in them is caught, and
+    /// booked, in the next step's grid update.
     fn remap(&mut self) {
-        let scene = &self.scene;
+        let (plates, mu) = (&self.scene.plates, self.scene.friction);
         let floor = self.mass_floor;
-        let mut owned = std::mem::take(&mut self.grid.owned);
-        let g = &self.grid;
-        owned
-            .par_chunks_mut(OWNED)
-            .enumerate()
-            .for_each(|(b, own)| {
-                for (local, n) in own.iter_mut().enumerate() {
-                    let m = n.mass();
-                    if m <= floor {
-                        n.set_a(&Vector3::zeros());
-                        continue;
-                    }
-                    let mut v = n.a() / m;
-                    if n.touch() > 0.0 {
-                        let z = g.owned_position(b, local).z;
-                        contact::apply_nearest(&scene.plates, scene.friction, z, m, &mut v, None);
-                    }
-                    n.set_a(&v);
+        self.grid.owned.par_chunks_mut(OWNED).for_each(|own| {
+            for n in own.iter_mut() {
+                let m = n.mass();
+                if m <= floor {
+                    n.set_a(&Vector3::zeros());
+                    continue;
                 }
-            });
-        self.grid.owned = owned;
+                let mut v = n.a() / m;
+                if let Some(k) = contact::plate_of(plates, n.touch()) {
+                    contact::project(&plates[k], mu, &mut v);
+                }
+                n.set_a(&v);
+            }
+        });
     }
 
     /// Grid → particle velocity, FLIP: add the interpolated velocity change.

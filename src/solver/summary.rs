@@ -2,8 +2,9 @@
 //! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
 
 use super::case::LoadingMode;
+use super::folds::count_folds;
 use super::history::HistoryRow;
-use super::mode::detect_mode;
+use super::mode::{detect_mode, ModeDetail};
 use super::reference::{references, References};
 use super::{Case, Snapshot};
 use serde::{Deserialize, Serialize};
@@ -46,11 +47,19 @@ pub struct Summary {
     /// TEA = ∫ P du by the trapezoid rule over the history.
     pub energy_absorbed_mj: f64,
     pub crush_distance_mm: f64,
-    /// Number of significant load drops (axial loading; 0 for lateral flattening, which does
-    /// not fold).
+    /// Folds of the wall, counted from the final shape as in the sections (axial loading; 0 for
+    /// lateral flattening, which does not fold). See [`super::folds`].
     pub folds: u32,
-    /// |W_ext − (E_kin + E_int + W_fric)| / max(W_ext, E_int) over the run.
+    /// Significant drops of the load on the moving plate (axial loading; 0 for lateral). In the
+    /// diamond modes each lobe's peak shows here, about twice the folds.
+    #[serde(default)]
+    pub load_drops: u32,
+    /// |W_ext − (E_kin + E_int + W_fric + W_contact)| / max(W_ext, E_int), the largest over
+    /// the run (see [`energy_balance_error`]).
     pub energy_balance_error: f64,
+    /// Every term of the energy balance at the end of the run.
+    #[serde(default)]
+    pub energy: EnergyBooks,
     /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
     pub kinetic_to_internal: f64,
     pub mode: CollapseMode,
@@ -58,20 +67,53 @@ pub struct Summary {
     pub cost: RunCost,
 }
 
-/// A load drop counts as a fold when it reaches this fraction of the running mean load.
-pub const FOLD_DROP_FRACTION: f64 = 0.15;
+/// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
+/// residual, which is the balance's numerical error (`external − booked`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct EnergyBooks {
+    pub work_top_mj: f64,
+    pub work_bottom_mj: f64,
+    pub kinetic_mj: f64,
+    pub elastic_mj: f64,
+    pub plastic_mj: f64,
+    pub friction_mj: f64,
+    /// Dissipated by the contact projection: grid nodes caught by a plate.
+    pub contact_mj: f64,
+    pub residual_mj: f64,
+}
+
+impl EnergyBooks {
+    /// The books of a history row.
+    pub fn of(r: &HistoryRow) -> EnergyBooks {
+        EnergyBooks {
+            work_top_mj: r.work_top_mj,
+            work_bottom_mj: r.work_bottom_mj,
+            kinetic_mj: r.kinetic_mj,
+            elastic_mj: r.internal_mj - r.plastic_mj,
+            plastic_mj: r.plastic_mj,
+            friction_mj: r.friction_mj,
+            contact_mj: r.contact_mj,
+            residual_mj: r.external_mj - r.booked_mj(),
+        }
+    }
+}
+
+/// A load drop counts when it reaches this fraction of the running mean load.
+pub const LOAD_DROP_FRACTION: f64 = 0.15;
 
 /// Rows whose external work is below this share of its final value are left out of the energy
 /// balance error (dividing by almost nothing says nothing).
 pub const ENERGY_BALANCE_FROM: f64 = 0.01;
 
-/// The summary of a finished run, from its history (load on the moving plate) and final shape.
+/// The summary of a finished run, from its history (load on the moving plate) and final shape,
+/// and the numbers behind its collapse mode.
 pub fn summarize(
     case: &Case,
     history: &[HistoryRow],
     snapshot: &Snapshot,
     cost: RunCost,
-) -> Summary {
+) -> (Summary, ModeDetail) {
+    let (mode, mode_detail) = detect_mode(case, snapshot);
     let energy_absorbed_mj = energy_absorbed(history);
     let crush_distance_mm = history.last().map_or(0.0, |r| r.displacement_mm);
     let mean_load_n = if crush_distance_mm > 0.0 {
@@ -79,21 +121,24 @@ pub fn summarize(
     } else {
         0.0
     };
-    Summary {
+    let summary = Summary {
         mean_load_n,
         peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
         energy_absorbed_mj,
         crush_distance_mm,
-        folds: match case.spec().loading.mode {
-            LoadingMode::Axial => count_folds(history),
+        folds: count_folds(case, snapshot),
+        load_drops: match case.spec().loading.mode {
+            LoadingMode::Axial => count_load_drops(history),
             LoadingMode::Lateral => 0,
         },
         energy_balance_error: energy_balance_error(history),
+        energy: history.last().map(EnergyBooks::of).unwrap_or_default(),
         kinetic_to_internal: kinetic_to_internal(history),
-        mode: detect_mode(case, snapshot).0,
+        mode,
         references: references(case),
         cost,
-    }
+    };
+    (summary, mode_detail)
 }
 
 /// TEA = Σ (P_{i−1} + P_i)/2 · Δu over the history, starting from (u = 0, P = 0), mJ.
@@ -118,35 +163,35 @@ fn running_energy(history: &[HistoryRow]) -> Vec<f64> {
 ///
 /// The rule: walking along the history, the detector is either *rising* (tracking the highest
 /// load since the last trough) or *falling* (tracking the lowest load since the last peak). A
-/// fold is counted when, while rising, the load falls below the tracked peak by at least
-/// [`FOLD_DROP_FRACTION`] of the current reference load; the detector then falls until the load
+/// drop is counted when, while rising, the load falls below the tracked peak by at least
+/// [`LOAD_DROP_FRACTION`] of the current reference load; the detector then falls until the load
 /// climbs the same margin above the tracked trough. The reference load is the running mean
 /// TEA(u)/u, floored at half the final mean so that noise in the first rows of the elastic ramp,
 /// where the running mean is still near zero, cannot count. A drop still in progress at the end of
 /// the history counts once it reaches the margin; a final rise without a drop does not.
 ///
 /// The load is first passed through a short running median (see `median_filtered`), so that
-/// one- or two-row contact spikes are not counted as folds.
-pub fn count_folds(history: &[HistoryRow]) -> u32 {
+/// one- or two-row contact spikes are not counted as drops.
+pub fn count_load_drops(history: &[HistoryRow]) -> u32 {
     let energy = running_energy(history);
     let final_mean = match history.last() {
         Some(r) if r.displacement_mm > 0.0 => energy[energy.len() - 1] / r.displacement_mm,
         _ => return 0,
     };
     let smooth = median_filtered(history);
-    let (mut rising, mut peak, mut trough, mut folds) = (true, f64::MIN, f64::MAX, 0);
+    let (mut rising, mut peak, mut trough, mut drops) = (true, f64::MIN, f64::MAX, 0);
     for ((r, e), &p) in history.iter().zip(&energy).zip(&smooth) {
         let running = if r.displacement_mm > 0.0 {
             e / r.displacement_mm
         } else {
             0.0
         };
-        let margin = FOLD_DROP_FRACTION * running.max(0.5 * final_mean);
+        let margin = LOAD_DROP_FRACTION * running.max(0.5 * final_mean);
         if rising {
             if p > peak {
                 peak = p;
             } else if peak - p >= margin {
-                folds += 1;
+                drops += 1;
                 (rising, trough) = (false, p);
             }
         } else if p < trough {
@@ -155,7 +200,7 @@ pub fn count_folds(history: &[HistoryRow]) -> u32 {
             (rising, peak) = (true, p);
         }
     }
-    folds
+    drops
 }
 
 /// The load on the moving plate through a running median over ±max(2, rows/200) rows: a fold
@@ -172,8 +217,9 @@ fn median_filtered(history: &[HistoryRow]) -> Vec<f64> {
         .collect()
 }
 
-/// max |W_ext − (E_kin + E_int + W_fric)| / max(W_ext, E_int) over the rows where W_ext has
-/// reached [`ENERGY_BALANCE_FROM`] of its final value; 0 when no external work was done.
+/// max |W_ext − (E_kin + E_int + W_fric + W_contact)| / max(W_ext, E_int) over the rows where
+/// W_ext has reached [`ENERGY_BALANCE_FROM`] of its final value; 0 when no external work was
+/// done.
 pub fn energy_balance_error(history: &[HistoryRow]) -> f64 {
     let final_work = history.last().map_or(0.0, |r| r.external_mj);
     if final_work <= 0.0 {
@@ -183,7 +229,7 @@ pub fn energy_balance_error(history: &[HistoryRow]) -> f64 {
         .iter()
         .filter(|r| r.external_mj >= ENERGY_BALANCE_FROM * final_work)
         .map(|r| {
-            let gap = r.external_mj - (r.kinetic_mj + r.internal_mj + r.friction_mj);
+            let gap = r.external_mj - r.booked_mj();
             gap.abs() / r.external_mj.max(r.internal_mj)
         })
         .fold(0.0, f64::max)
@@ -257,7 +303,7 @@ mod tests {
     fn tea_and_mean_of_a_constant_load() {
         // P = 1000 N at u = 1..10: the first interval is (0 + 1000)/2 · 1 = 500, then 9 · 1000.
         let h: Vec<_> = (1..=10).map(|i| row(i as f64, 1000.0)).collect();
-        let s = summarize(&case("{}"), &h, &Snapshot::default(), RunCost::default());
+        let (s, _) = summarize(&case("{}"), &h, &Snapshot::default(), RunCost::default());
         assert_eq!(s.energy_absorbed_mj, 9500.0);
         assert_eq!(s.crush_distance_mm, 10.0);
         assert_eq!(s.mean_load_n, 950.0);
@@ -276,27 +322,27 @@ mod tests {
     }
 
     #[test]
-    fn saw_tooth_folds_are_counted() {
-        assert_eq!(count_folds(&curve(&TEETH, 0.1, 0.0)), 4);
+    fn saw_tooth_load_drops_are_counted() {
+        assert_eq!(count_load_drops(&curve(&TEETH, 0.1, 0.0)), 4);
         // Five equal teeth 1000 → 1495 N, each ending in a drop; the last drop falls on the last
         // row alone, which the median cannot tell from a spike, so four are counted.
         let h: Vec<_> = (1..=500)
             .map(|i| row(i as f64 * 0.1, 1000.0 + 5.0 * (i % 100) as f64))
             .collect();
-        assert_eq!(count_folds(&h), 4);
+        assert_eq!(count_load_drops(&h), 4);
         let longer: Vec<_> = (1..=510)
             .map(|i| row(i as f64 * 0.1, 1000.0 + 5.0 * (i % 100) as f64))
             .collect();
-        assert_eq!(count_folds(&longer), 5);
+        assert_eq!(count_load_drops(&longer), 5);
     }
 
     #[test]
-    fn noise_does_not_add_folds() {
-        // ±60 N noise (5 % of the ~1.2 kN mean) on the teeth: still four folds.
-        assert_eq!(count_folds(&curve(&TEETH, 0.05, 60.0)), 4);
+    fn noise_does_not_add_load_drops() {
+        // ±60 N noise (5 % of the ~1.2 kN mean) on the teeth: still four drops.
+        assert_eq!(count_load_drops(&curve(&TEETH, 0.05, 60.0)), 4);
         // Noise alone on a plateau: the 15 % margin (≈ 150 N) exceeds its 120 N peak-to-peak.
         assert_eq!(
-            count_folds(&curve(&[(0.0, 1000.0), (30.0, 1000.0)], 0.05, 60.0)),
+            count_load_drops(&curve(&[(0.0, 1000.0), (30.0, 1000.0)], 0.05, 60.0)),
             0
         );
         // A dip of 8 % of the mean on the way up is a wiggle, not a fold.
@@ -307,7 +353,7 @@ mod tests {
             (10.0, 1500.0),
             (11.0, 900.0),
         ];
-        assert_eq!(count_folds(&curve(&wiggle, 0.1, 0.0)), 1);
+        assert_eq!(count_load_drops(&curve(&wiggle, 0.1, 0.0)), 1);
     }
 
     #[test]
@@ -355,7 +401,7 @@ mod tests {
     #[test]
     fn summary_carries_mode_and_references() {
         let lateral = case(r#"{"loading": {"mode": "lateral"}}"#);
-        let s = summarize(
+        let (s, _) = summarize(
             &lateral,
             &curve(&TEETH, 0.1, 0.0),
             &Snapshot::default(),
@@ -389,7 +435,7 @@ mod spike_tests {
     /// A regression for what broke on the first n = 4 crush: single-row contact spikes of
     /// +40 % on a flat plateau were counted as folds (9 of them on a curve with one fold).
     #[test]
-    fn single_row_spikes_are_not_folds() {
+    fn single_row_spikes_are_not_load_drops() {
         let rows: Vec<HistoryRow> = (1..=300)
             .map(|i| HistoryRow {
                 displacement_mm: i as f64 * 0.1,
@@ -397,6 +443,6 @@ mod spike_tests {
                 ..Default::default()
             })
             .collect();
-        assert_eq!(count_folds(&rows), 0);
+        assert_eq!(count_load_drops(&rows), 0);
     }
 }

@@ -7,9 +7,9 @@ mod speed;
 mod stability;
 
 use crate::plot::{self, Series};
-use crate::solver::summary::summarize;
+use crate::solver::scene::Scene;
+use crate::solver::Summary;
 use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
-use crate::solver::{RunCost, Summary};
 use anyhow::Context;
 use serde_json::Value;
 use std::path::Path;
@@ -47,7 +47,6 @@ pub fn study(args: StudyArgs) -> anyhow::Result<()> {
 
 /// A finished run of a study.
 pub struct Finished {
-    pub case: Case,
     pub history: Vec<HistoryRow>,
     pub summary: Summary,
 }
@@ -132,6 +131,17 @@ pub fn run_case(
     json: &Value,
     threads: usize,
 ) -> anyhow::Result<Result<Finished, Failed>> {
+    run_case_changed(name, json, threads, |_| {})
+}
+
+/// [`run_case`] with the scene changed by `change` after it is built from the case: runs what
+/// no valid case describes (see `solver::run_scene`).
+pub fn run_case_changed(
+    name: &str,
+    json: &Value,
+    threads: usize,
+    change: impl Fn(&mut Scene) + Send + Sync,
+) -> anyhow::Result<Result<Finished, Failed>> {
     let text = serde_json::to_string(json)?;
     let case = match Case::from_json(&text, &Limits::default()) {
         Ok(c) => c,
@@ -143,26 +153,18 @@ pub fn run_case(
         .context("starting the solver's thread pool")?;
     let mut observer = Quiet { name, next: 0.0 };
     let start = Instant::now();
-    let result = pool.install(|| solver::run(&case, &mut observer, &AtomicBool::new(false)));
+    let result = pool.install(|| {
+        let mut scene = Scene::from_case(&case);
+        change(&mut scene);
+        solver::run_scene(&case, scene, &mut observer, &AtomicBool::new(false))
+    });
     let wall = start.elapsed().as_secs_f64();
     eprintln!("\r  {name:<28} done in {wall:.1} s");
     Ok(match result {
-        Ok(out) => {
-            let cost = RunCost {
-                threads: threads as u32,
-                wall_time_s: wall,
-                particle_steps_per_s: out.summary.cost.particles as f64
-                    * out.summary.cost.steps as f64
-                    / wall,
-                ..out.summary.cost
-            };
-            let summary = summarize(&case, &out.history, &out.snapshot, cost);
-            Ok(Finished {
-                case,
-                history: out.history,
-                summary,
-            })
-        }
+        Ok(out) => Ok(Finished {
+            history: out.history,
+            summary: out.summary,
+        }),
         Err(e) => Err(Failed::Stopped(e)),
     })
 }
