@@ -145,6 +145,7 @@ pub enum ShapeKind {
 #[serde(default, deny_unknown_fields)]
 pub struct Discretization {
     /// n: particles through the wall; the particle spacing is h = t / n in every direction.
+    #[serde(deserialize_with = "whole::<_, u32>")]
     pub particles_through_thickness: u32,
     /// k: background cell size = k · h.
     pub cell_to_particle_ratio: f64,
@@ -176,6 +177,7 @@ pub struct Trigger {
     /// Yield stress of a weak particle divided by σy.
     pub strength_ratio: f64,
     /// Seed of the random choice of weak particles.
+    #[serde(deserialize_with = "whole::<_, u64>")]
     pub seed: u64,
 }
 
@@ -193,6 +195,7 @@ impl Default for Trigger {
 #[serde(default, deny_unknown_fields)]
 pub struct Output {
     /// Number of history rows, at equal plate-displacement intervals.
+    #[serde(deserialize_with = "whole::<_, u32>")]
     pub history_points: u32,
     /// Keep the final particle state (positions and plastic strain, 16 bytes a particle) for
     /// the deformed-tube picture and the VTU download. A sweep that needs only the numbers can
@@ -207,6 +210,28 @@ impl Default for Output {
             final_state: true,
         }
     }
+}
+
+/// An integer field read from any JSON number with no fractional part: JSON (and the contract's
+/// JSON Schema `integer`) counts `500.0` as the integer 500, so the parser does too.
+fn whole<'de, D, T>(de: D) -> Result<T, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: TryFrom<u64>,
+{
+    use serde::de::Error;
+    let n = serde_json::Number::deserialize(de)?;
+    let whole = match (n.as_u64(), n.as_f64()) {
+        (Some(u), _) => Some(u),
+        // Below 2⁶⁴ and whole: the conversion is exact.
+        (None, Some(f)) if (0.0..18_446_744_073_709_551_616.0).contains(&f) && f.fract() == 0.0 => {
+            Some(f as u64)
+        }
+        _ => None,
+    };
+    whole
+        .and_then(|u| T::try_from(u).ok())
+        .ok_or_else(|| D::Error::custom(format!("expected a whole number in range, not {n}")))
 }
 
 /// Limits a caller puts on what it is willing to run. Every count is computed in floating
@@ -543,7 +568,8 @@ fn particles_f64(spec: &CaseSpec) -> f64 {
         .sum()
 }
 
-/// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point.
+/// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
+/// least one per history row.
 fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     let d = &spec.discretization;
     let cell =
@@ -556,7 +582,8 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     if steps.is_nan() {
         f64::INFINITY
     } else {
-        steps.ceil().max(1.0)
+        // The run ends each history interval on a step of its own.
+        steps.ceil().max(spec.output.history_points as f64).max(1.0)
     }
 }
 
@@ -880,7 +907,7 @@ mod tests {
             &Limits::default(),
         )
         .unwrap();
-        assert_eq!(case.step_count(), 1);
+        assert_eq!(case.step_count(), 500, "one a history row");
     }
 
     #[test]
@@ -945,6 +972,29 @@ mod tests {
             }
         }
         assert!(Case::from_json(" {}\n ", &Limits::default()).is_ok());
+    }
+
+    #[test]
+    fn whole_numbers_written_with_a_point_are_integers() {
+        // schemathesis: `"seed": 7163146938.0` is an integer to JSON Schema, and was a 400.
+        let text = r#"{"trigger":{"seed":7163146938.0},"output":{"history_points":1000.0},
+            "discretization":{"particles_through_thickness":2.0}}"#;
+        let case = Case::from_json(text, &Limits::default()).unwrap();
+        assert_eq!(case.spec().trigger.seed, 7_163_146_938);
+        assert_eq!(case.spec().output.history_points, 1000);
+        for bad in [
+            r#"{"output":{"history_points":10.5}}"#,
+            r#"{"output":{"history_points":-10}}"#,
+            r#"{"output":{"history_points":4294967296}}"#,
+            r#"{"trigger":{"seed":1e30}}"#,
+            r#"{"output":{"history_points":"10"}}"#,
+        ] {
+            let Err(CaseError::Malformed { field, .. }) = Case::from_json(bad, &Limits::default())
+            else {
+                panic!("{bad} accepted")
+            };
+            assert!(field.is_some(), "{bad}");
+        }
     }
 
     #[test]
