@@ -65,3 +65,45 @@ async fn a_stream_joined_mid_run_replays_the_run_so_far_then_follows_it() {
     // 500 rows, all of which arrive (under the replay cap).
     assert_eq!(fractions.len(), 500);
 }
+
+/// The probe: `Last-Event-ID: 5000000` (or 2^64 − 1) on a running job got no events and the
+/// stream stayed open after the job had ended.
+#[tokio::test]
+async fn last_event_id_5000000_on_a_running_job_still_gets_the_final_event_and_the_stream_ends() {
+    let app = TestApp::start(&["--heartbeat-ms", "100"]).await;
+    let id = app.submit(&common::medium_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    app.wait_for(&id, &["running"], Duration::from_secs(30))
+        .await;
+    let url = app.at(&format!("/v1/jobs/{id}/events"));
+    // Both open while the job runs.
+    let mut streams = Vec::new();
+    for last in [5_000_000, u64::MAX] {
+        let (status, events) = SseReader::open(&app.client, &url, Some(last)).await;
+        assert_eq!(status, 200, "Last-Event-ID {last}");
+        streams.push((last, events));
+    }
+    for (last, mut events) in streams {
+        let mut seen = Vec::new();
+        let end = loop {
+            let e = events
+                .next(Duration::from_secs(90))
+                .await
+                .unwrap_or_else(|| panic!("Last-Event-ID {last}: no final event after {seen:?}"));
+            if e.event == "done" || e.event == "failed" || e.event == "cancelled" {
+                break e;
+            }
+            seen.push(e.event);
+        };
+        assert_eq!(end.event, "done", "{}", end.data);
+        assert!(
+            events.next(Duration::from_secs(5)).await.is_none(),
+            "Last-Event-ID {last}: the stream stays open after the final event"
+        );
+    }
+    // Once the job has ended, such an id has "seen everything": 204.
+    let (status, _) = SseReader::open(&app.client, &url, Some(5_000_000)).await;
+    assert_eq!(status, 204);
+}

@@ -175,6 +175,10 @@ async fn a_running_job_is_cancelled_within_a_step() {
     assert_eq!(r.status(), 202);
     let body: Value = r.json().await.unwrap();
     assert_eq!(body["cancel_requested"], true);
+    assert!(
+        body["note"].as_str().unwrap().contains("the cancel wins"),
+        "the 202 says the cancel wins over a run that completes meanwhile: {body}"
+    );
     let end = loop {
         let e = events
             .next(Duration::from_secs(10))

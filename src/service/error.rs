@@ -159,10 +159,27 @@ impl From<CaseError> for ApiError {
 }
 
 impl From<super::store::StoreError> for ApiError {
+    /// A database that cannot be used now (full or read-only disk, I/O error, lock held too
+    /// long, file deleted) is 503 with `Retry-After`, logged; anything else is a 500.
     fn from(e: super::store::StoreError) -> ApiError {
+        if e.is_unavailable() {
+            tracing::error!(error = %e, "the database cannot be used: answering 503");
+            let detail = match e {
+                // Says what happened, without the path.
+                super::store::StoreError::FileGone(why) => why,
+                _ => "the database cannot be written or read right now; try again later".into(),
+            };
+            return ApiError::Unavailable {
+                detail,
+                retry_after_s: STORE_RETRY_AFTER_S,
+            };
+        }
         ApiError::internal(e)
     }
 }
+
+/// `Retry-After` of a 503 for a database that cannot be used, s.
+pub const STORE_RETRY_AFTER_S: u32 = 5;
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {

@@ -16,9 +16,22 @@ use uuid::Uuid;
 /// Ids available to one claim of a job.
 pub const SPAN: u64 = 1_000_000;
 
-/// Id of the `k`-th event of claim `attempt`.
+/// Most non-final events of one claim: `k` runs over `0..=LAST_K`, and `SPAN − 1` is the final
+/// event's. A run sends one progress event per history row (at most 100 000), so this is never
+/// reached; if it were, the publisher drops the excess instead of repeating an id (which
+/// de-duplication would take for events already sent).
+pub const LAST_K: u64 = SPAN - 2;
+
+/// Id of the `k`-th event of claim `attempt` (`k` at most [`LAST_K`]).
 pub fn event_id(attempt: i64, k: u64) -> u64 {
-    attempt.max(0) as u64 * SPAN + k.min(SPAN - 2)
+    debug_assert!(k <= LAST_K, "event {k} of a claim is past its span");
+    attempt.max(0) as u64 * SPAN + k.min(LAST_K)
+}
+
+/// The largest id a claim `attempt` gives an event that is not final: a `Last-Event-ID`
+/// beyond it (and below the next claim's ids) was never sent while the claim runs.
+pub fn last_event_id(attempt: i64) -> u64 {
+    event_id(attempt, LAST_K)
 }
 
 /// Id of the final event of a job whose last claim was `attempt`.
@@ -120,6 +133,20 @@ impl Hub {
         }
     }
 
+    /// Sends a job's final event to its listeners, whoever ran it (the run's own publisher may
+    /// be gone, e.g. with a panicking solver).
+    pub fn announce(self: &Arc<Self>, id: Uuid, event: Event) {
+        let ch = self.channel(id);
+        ch.recent
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(event.clone());
+        // An error only means nobody is listening.
+        let _ = ch.tx.send(event);
+        drop(ch);
+        self.release(id);
+    }
+
     /// Listens to a job; the current claim's events so far come along.
     pub fn subscribe(self: &Arc<Self>, id: Uuid) -> Subscription {
         let ch = self.channel(id);
@@ -171,6 +198,16 @@ pub struct Subscription {
     pub recent: Vec<Event>,
 }
 
+impl Subscription {
+    /// The current claim's events so far (thinned as [`Subscription::recent`]): what a listener
+    /// that fell behind the channel missed, at the replay's resolution.
+    pub fn replay(&self) -> Vec<Event> {
+        self.ch.as_ref().map_or_else(Vec::new, |ch| {
+            ch.recent.lock().unwrap_or_else(|e| e.into_inner()).events()
+        })
+    }
+}
+
 impl Drop for Subscription {
     fn drop(&mut self) {
         self.ch.take();
@@ -188,12 +225,20 @@ pub struct Publisher {
 }
 
 impl Publisher {
+    /// Sends an event of the claim. Past [`LAST_K`] events (never, see there) the rest are
+    /// dropped: ids must increase for listeners to tell new from seen.
     pub fn send(&mut self, name: &'static str, data: String) {
         let id = if matches!(name, "done" | "failed" | "cancelled") {
             final_id(self.attempt)
-        } else {
+        } else if self.next <= LAST_K {
             self.next += 1;
             event_id(self.attempt, self.next - 1)
+        } else {
+            if self.next == LAST_K + 1 {
+                self.next += 1;
+                tracing::warn!(job = %self.id, "more events than a claim has ids: the rest are dropped");
+            }
+            return;
         };
         let event = Event { id, name, data };
         if let Some(ch) = &self.ch {
@@ -280,6 +325,52 @@ mod tests {
         assert_eq!(got.last().unwrap().data, (total - 1).to_string());
         let first: usize = got[0].data.parse().expect("nothing of the old claim");
         assert!(first < 8, "the replay starts at event {first}");
+    }
+
+    #[test]
+    fn event_ids_never_repeat_even_past_the_span_of_a_claim() {
+        let hub = Hub::new(16);
+        let id = Uuid::new_v4();
+        let mut p = hub.publisher(id, 1);
+        // Start near the end of the span rather than sending a million events.
+        p.next = LAST_K - 1;
+        let mut sub = hub.subscribe(id);
+        for _ in 0..5 {
+            p.send("progress", "{}".into());
+        }
+        p.send("done", "{}".into());
+        let mut ids = Vec::new();
+        while let Ok(e) = sub.rx.try_recv() {
+            ids.push(e.id);
+        }
+        assert_eq!(
+            ids,
+            vec![event_id(1, LAST_K - 1), last_event_id(1), final_id(1)],
+            "the two events that fit, then nothing until the final one"
+        );
+    }
+
+    #[test]
+    fn a_final_event_announced_without_the_runs_publisher_reaches_listeners() {
+        let hub = Hub::new(4);
+        let id = Uuid::new_v4();
+        let mut sub = hub.subscribe(id);
+        let mut p = hub.publisher(id, 1);
+        p.send("progress", "{}".into());
+        drop(p);
+        hub.announce(
+            id,
+            Event {
+                id: final_id(1),
+                name: "failed",
+                data: "{}".into(),
+            },
+        );
+        assert_eq!(sub.rx.try_recv().unwrap().name, "progress");
+        assert_eq!(sub.rx.try_recv().unwrap().name, "failed");
+        assert_eq!(sub.replay().last().unwrap().name, "failed");
+        drop(sub);
+        assert!(hub.is_empty());
     }
 
     #[test]

@@ -2,11 +2,11 @@
 //! `spawn_blocking`, heartbeat while it runs and store the outcome; a reaper that puts back jobs
 //! whose worker died; and a bounded, requeueing drain on shutdown.
 
-use super::hub::{Hub, JobObserver};
+use super::hub::{self, Hub, JobObserver};
 use super::state;
-use super::store::{Claimed, Status, Store, Succeeded};
+use super::store::{Claimed, Result as StoreResult, Status, Store, Succeeded};
 use super::views;
-use crate::solver::{self, Case, Limits, Progress, SolveError};
+use crate::solver::{self, Case, Limits, Progress, RunOutput, SolveError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -141,8 +141,11 @@ impl Workers {
 
     async fn work(self: Arc<Self>) {
         let mut shutdown = self.shutdown.clone();
+        let mut failures = 0u32;
         while !*shutdown.borrow() {
-            match self.store.claim(&self.instance).await {
+            let claimed = self.store.claim(&self.instance).await;
+            failures = if claimed.is_err() { failures + 1 } else { 0 };
+            match claimed {
                 Ok(Some(job)) => self.run(job).await,
                 Ok(None) => {
                     tokio::select! {
@@ -152,8 +155,17 @@ impl Workers {
                     }
                 }
                 Err(e) => {
-                    tracing::error!(error = %e, "claiming a job failed");
-                    tokio::time::sleep(self.config.poll).await;
+                    // Back off while the database is unusable (at most 5 s, so a healed disk is
+                    // used again soon), logging the first failure and then every 10th.
+                    if failures % 10 == 1 {
+                        tracing::error!(error = %e, failures, "claiming a job failed");
+                    }
+                    let wait = self.config.poll * 2u32.pow(failures.min(4));
+                    tokio::select! {
+                        _ = tokio::time::sleep(wait.min(Duration::from_secs(5))) => {}
+                        _ = self.wake.notified() => {}
+                        _ = shutdown.wait_for(|s| *s) => {}
+                    }
                 }
             }
         }
@@ -163,6 +175,9 @@ impl Workers {
         let mut shutdown = self.shutdown.clone();
         let every = (self.config.stale_after / 4).max(Duration::from_millis(100));
         while !*shutdown.borrow() {
+            if let Err(e) = self.store.check_file() {
+                tracing::error!(error = %e, "the database file is gone: no job is claimed or stored");
+            }
             let stale = self.config.stale_after.as_millis() as i64;
             match self.store.reap_stale(stale, self.config.max_attempts).await {
                 Ok(r) => {
@@ -185,37 +200,51 @@ impl Workers {
         }
     }
 
-    /// Runs one claimed job to its end and stores the outcome.
+    /// Runs one claimed job to its end: the run, then its [`Outcome`], then one store step and
+    /// one announcement. The job leaves the running map on every path, a panic included.
     async fn run(&self, job: Claimed) {
-        let id = job.id;
-        let case = match Case::from_json(&job.case_json, &self.config.limits) {
-            Ok(case) => case,
-            Err(e) => return self.end(&job, Status::Failed, Some(&format!("{e}"))).await,
+        let case = Case::from_json(&job.case_json, &self.config.limits);
+        let running = Arc::new(Running {
+            cancel: Arc::new(AtomicBool::new(false)),
+            user_cancel: AtomicBool::new(false),
+            particles: case.as_ref().map_or(0, |c| c.particle_count()),
+            latest: Arc::new(Mutex::new(None)),
+        });
+        let _tracked = Tracked::insert(self, job.id, running.clone());
+        let (outcome, publisher, keep_state) = match case {
+            Ok(case) => {
+                let keep_state = case.spec().output.final_state;
+                let (outcome, publisher) = self.execute(&job, case, &running).await;
+                (outcome, publisher, keep_state)
+            }
+            Err(e) => (Outcome::Failed(e.to_string()), None, false),
         };
-        let keep_state = case.spec().output.final_state;
+        let latest = *running.latest.lock().unwrap_or_else(|e| e.into_inner());
+        let progress_json = latest.map(|p| serde_json::to_string(&p).unwrap_or_default());
+        let stored = self
+            .store_outcome(&job, &outcome, progress_json.as_deref(), keep_state)
+            .await;
+        self.announce(&job, stored, publisher).await;
+    }
+
+    /// Runs the solver on the job's own rayon pool, heartbeating meanwhile. Returns the
+    /// outcome and, when the run returned (did not panic), its publisher.
+    async fn execute(
+        &self,
+        job: &Claimed,
+        case: Case,
+        running: &Arc<Running>,
+    ) -> (Outcome, Option<hub::Publisher>) {
+        let id = job.id;
         let pool = match rayon::ThreadPoolBuilder::new()
             .num_threads(self.config.threads_per_job)
             .thread_name(move |i| format!("crush-{}-{i}", &id.simple().to_string()[..8]))
             .build()
         {
             Ok(pool) => pool,
-            Err(e) => {
-                return self
-                    .end(
-                        &job,
-                        Status::Failed,
-                        Some(&format!("no solver threads: {e}")),
-                    )
-                    .await
-            }
+            Err(e) => return (Outcome::Failed(format!("no solver threads: {e}")), None),
         };
-        let running = Arc::new(Running {
-            cancel: Arc::new(AtomicBool::new(false)),
-            user_cancel: AtomicBool::new(false),
-            particles: case.particle_count(),
-            latest: Arc::new(Mutex::new(None)),
-        });
-        self.running().insert(id, running.clone());
+        let particles = running.particles;
         let mut publisher = self.hub.publisher(id, job.attempt);
         publisher.send(
             "status",
@@ -225,8 +254,7 @@ impl Workers {
             publisher,
             latest: running.latest.clone(),
         };
-        tracing::info!(job = %id, attempt = job.attempt, particles = running.particles, "job started");
-
+        tracing::info!(job = %id, attempt = job.attempt, particles, "job started");
         let heartbeat = tokio::spawn(heartbeat(
             self.store.clone(),
             job.clone(),
@@ -236,109 +264,167 @@ impl Workers {
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
             let out = pool.install(|| solver::run(&case, &mut observer, &cancel));
-            (out, observer)
+            (out, observer.publisher)
         })
         .await;
         heartbeat.abort();
-        let latest = *running.latest.lock().unwrap_or_else(|e| e.into_inner());
-        let progress_json = latest.map(|p| serde_json::to_string(&p).unwrap_or_default());
-
-        let (status, error, observer) = match result {
-            Ok((Ok(out), observer)) => match views::non_finite(&out) {
-                Some(what) => (
-                    Status::Failed,
-                    Some(format!("the solver returned {what}")),
-                    Some(observer),
-                ),
-                None => {
-                    let state = keep_state.then(|| state::encode(&out.snapshot));
-                    let result = Succeeded {
-                        history: &out.history,
-                        summary: &out.summary,
-                        final_state: state
-                            .as_deref()
-                            .map(|bytes| (out.snapshot.position_mm.len(), bytes)),
-                        progress_json: progress_json.as_deref(),
-                    };
-                    let stored = self.store.finish_succeeded(id, job.lease, result).await;
-                    match stored {
-                        Ok(true) => {
-                            let steps = out
-                                .summary
-                                .cost
-                                .steps
-                                .saturating_mul(out.summary.cost.particles);
-                            self.particle_steps_total
-                                .fetch_add(steps, Ordering::Relaxed);
-                            tracing::info!(job = %id, "job succeeded");
-                        }
-                        Ok(false) => tracing::warn!(job = %id, "lease lost: result dropped"),
-                        Err(e) => {
-                            tracing::error!(job = %id, error = %e, "storing the result failed");
-                            let _ = self.store.requeue(id, job.lease).await;
-                        }
-                    }
-                    self.running().remove(&id);
-                    return self.announce(id, observer).await;
-                }
-            },
-            Ok((Err(SolveError::Cancelled { step }), observer)) => {
-                if running.user_cancel.load(Ordering::Relaxed) {
-                    (Status::Cancelled, None, Some(observer))
-                } else {
-                    // Shutdown or a lost lease: leave it for the next worker.
-                    self.running().remove(&id);
-                    if matches!(self.store.requeue(id, job.lease).await, Ok(true)) {
-                        tracing::info!(job = %id, step, "job interrupted: requeued");
-                        let mut p = observer.publisher;
-                        p.send(
-                            "status",
-                            serde_json::json!({"status": "queued"}).to_string(),
-                        );
-                    }
-                    return;
-                }
-            }
-            Ok((Err(e @ SolveError::Unstable { .. }), observer)) => {
-                (Status::Failed, Some(e.to_string()), Some(observer))
-            }
-            Err(panic) => {
+        let user_cancel = running.user_cancel.load(Ordering::Relaxed);
+        match result {
+            Ok((out, publisher)) => (Outcome::of(Ok(out), user_cancel), Some(publisher)),
+            Err(e) => {
+                let panic = panic_message(e);
                 tracing::error!(job = %id, error = %panic, "the solver panicked");
-                (
-                    Status::Failed,
-                    Some("the solver stopped with an internal error".to_string()),
-                    None,
-                )
+                (Outcome::of(Err(panic), user_cancel), None)
+            }
+        }
+    }
+
+    /// The one store step of an outcome: the status now stored, or `None` when the lease was
+    /// lost (another worker has the job; nothing was written).
+    async fn store_outcome(
+        &self,
+        job: &Claimed,
+        outcome: &Outcome,
+        progress_json: Option<&str>,
+        keep_state: bool,
+    ) -> StoreResult<Option<Status>> {
+        let (id, lease) = (job.id, job.lease);
+        match outcome {
+            Outcome::Succeeded(out) => {
+                let state = keep_state.then(|| state::encode(&out.snapshot));
+                let result = Succeeded {
+                    history: &out.history,
+                    summary: &out.summary,
+                    final_state: state
+                        .as_deref()
+                        .map(|bytes| (out.snapshot.position_mm.len(), bytes)),
+                    progress_json,
+                };
+                let stored = self.store.finish_succeeded(id, lease, result).await?;
+                if stored == Some(Status::Succeeded) {
+                    let cost = &out.summary.cost;
+                    self.particle_steps_total
+                        .fetch_add(cost.steps.saturating_mul(cost.particles), Ordering::Relaxed);
+                }
+                Ok(stored)
+            }
+            Outcome::Failed(error) => {
+                self.store
+                    .finish_unsuccessful(id, lease, Status::Failed, Some(error))
+                    .await
+            }
+            Outcome::Cancelled => {
+                self.store
+                    .finish_unsuccessful(id, lease, Status::Cancelled, None)
+                    .await
+            }
+            Outcome::Interrupted { step } => {
+                tracing::info!(job = %id, step, "job interrupted");
+                self.store
+                    .requeue(id, lease, self.config.max_attempts)
+                    .await
+            }
+        }
+    }
+
+    /// Logs what became of the job and tells its listeners: a `status` event when it went
+    /// back to the queue, else the final event built from what is now stored.
+    async fn announce(
+        &self,
+        job: &Claimed,
+        stored: StoreResult<Option<Status>>,
+        publisher: Option<hub::Publisher>,
+    ) {
+        let id = job.id;
+        let status = match stored {
+            Ok(Some(status)) => status,
+            Ok(None) => return tracing::warn!(job = %id, "lease lost: outcome dropped"),
+            Err(e) => {
+                // The job stays `running` with a stale heartbeat: the reaper puts it back once
+                // the database can be written again.
+                return tracing::error!(job = %id, error = %e, "storing the outcome failed");
             }
         };
-        self.running().remove(&id);
-        self.end(&job, status, error.as_deref()).await;
-        if let Some(observer) = observer {
-            self.announce(id, observer).await;
+        tracing::info!(job = %id, attempt = job.attempt, status = status.as_str(), "job ended");
+        if status == Status::Queued {
+            if let Some(mut p) = publisher {
+                p.send(
+                    "status",
+                    serde_json::json!({"status": "queued"}).to_string(),
+                );
+            }
+            return;
         }
-    }
-
-    /// Stores a failed or cancelled outcome.
-    async fn end(&self, job: &Claimed, status: Status, error: Option<&str>) {
-        match self
-            .store
-            .finish_unsuccessful(job.id, job.lease, status, error)
-            .await
-        {
-            Ok(true) => tracing::info!(job = %job.id, status = status.as_str(), error, "job ended"),
-            Ok(false) => tracing::warn!(job = %job.id, "lease lost: outcome dropped"),
-            Err(e) => tracing::error!(job = %job.id, error = %e, "storing the outcome failed"),
-        }
-    }
-
-    /// Sends the job's final event, built from what is now stored.
-    async fn announce(&self, id: Uuid, observer: JobObserver) {
-        let mut publisher = observer.publisher;
+        drop(publisher);
+        // When the job cannot be read back, streams find the end on their next store poll.
         if let Ok(Some(record)) = self.store.job(id).await {
             if let Some(event) = views::final_event(&record) {
-                publisher.send(event.name, event.data);
+                self.hub.announce(id, event);
             }
         }
+    }
+}
+
+/// How a claimed run ended.
+#[derive(Debug)]
+enum Outcome {
+    Succeeded(Box<RunOutput>),
+    /// The reason, for the client.
+    Failed(String),
+    /// A client asked.
+    Cancelled,
+    /// Shutdown or a lost lease stopped it: back to the queue.
+    Interrupted {
+        step: u64,
+    },
+}
+
+impl Outcome {
+    /// The solver's result, or its panic message, as an outcome. `user_cancel`: a client asked
+    /// for the cancel (rather than the shutdown or a lost lease).
+    fn of(result: Result<Result<RunOutput, SolveError>, String>, user_cancel: bool) -> Outcome {
+        match result {
+            Ok(Ok(out)) => match views::non_finite(&out) {
+                Some(what) => Outcome::Failed(format!("the solver returned {what}")),
+                None => Outcome::Succeeded(Box::new(out)),
+            },
+            Ok(Err(SolveError::Cancelled { .. })) if user_cancel => Outcome::Cancelled,
+            Ok(Err(SolveError::Cancelled { step })) => Outcome::Interrupted { step },
+            Ok(Err(e @ SolveError::Unstable { .. })) => Outcome::Failed(e.to_string()),
+            // The message stays in the log: it is internal.
+            Err(_panic) => Outcome::Failed("the solver stopped with an internal error".into()),
+        }
+    }
+}
+
+/// The text of a solver panic (or why there is none).
+fn panic_message(e: tokio::task::JoinError) -> String {
+    match e.try_into_panic() {
+        Ok(payload) => payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic without a message".into()),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// A job in the running map while this lives.
+struct Tracked<'a> {
+    workers: &'a Workers,
+    id: Uuid,
+}
+
+impl<'a> Tracked<'a> {
+    fn insert(workers: &'a Workers, id: Uuid, running: Arc<Running>) -> Tracked<'a> {
+        workers.running().insert(id, running);
+        Tracked { workers, id }
+    }
+}
+
+impl Drop for Tracked<'_> {
+    fn drop(&mut self) {
+        self.workers.running().remove(&self.id);
     }
 }
 
@@ -371,5 +457,31 @@ async fn heartbeat(store: Store, job: Claimed, running: Arc<Running>, every: Dur
             }
             Err(e) => tracing::error!(job = %job.id, error = %e, "heartbeat failed"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_fails_the_job_and_a_cancel_is_the_clients_or_an_interruption() {
+        let panicked = Outcome::of(Err("index out of bounds".into()), false);
+        let Outcome::Failed(why) = panicked else {
+            panic!("{panicked:?}")
+        };
+        assert!(!why.contains("index"), "the panic stays in the log: {why}");
+        let cancelled = || Ok(Err(SolveError::Cancelled { step: 7 }));
+        assert!(matches!(Outcome::of(cancelled(), true), Outcome::Cancelled));
+        assert!(matches!(
+            Outcome::of(cancelled(), false),
+            Outcome::Interrupted { step: 7 }
+        ));
+        let unstable = Ok(Err(SolveError::Unstable {
+            step: 3,
+            time_ms: 0.5,
+            what: "kinetic energy".into(),
+        }));
+        assert!(matches!(Outcome::of(unstable, true), Outcome::Failed(w) if w.contains("kinetic")));
     }
 }

@@ -1,12 +1,14 @@
 //! `GET /v1/jobs/{id}/events`: server-sent events from the hub. A stream opens with the job's
 //! current state and, for a running job, the events of its run so far (thinned past
 //! `hub::REPLAY_CAP`), follows it live, and closes after the final `done`/`failed`/`cancelled`.
-//! Ids only increase; a reconnecting client (`Last-Event-ID`) is sent only newer events. A
-//! client that connects after the end gets the final event at once (or 204 if it has seen it).
+//! Ids only increase; a reconnecting client (`Last-Event-ID`) is sent only newer events. An id
+//! the job's current claim cannot have sent yet (past its span: `5000000`, `2^64 − 1`) is read
+//! as "from now on". A client that connects after the end gets the final event at once (or 204
+//! if it has seen it). Every stream ends after the job's final event, whatever the client saw.
 
 use super::{parse_id, AppState};
 use crate::service::error::ApiError;
-use crate::service::hub::{event_id, Event, Subscription};
+use crate::service::hub::{event_id, last_event_id, Event, Subscription};
 use crate::service::store::{Status, Store};
 use crate::service::views::final_event;
 use axum::extract::{Path, State};
@@ -56,6 +58,16 @@ pub async fn events(
         if record.status == Status::Running {
             pending.extend(sub.recent.iter().cloned());
         }
+        // An id the current claim cannot have sent (the client's own, or one from another
+        // server's database) would hide every event up to it, the final one included: read it
+        // as "everything so far was seen".
+        let last_seen = last_seen.map(|l| {
+            if l > last_event_id(record.attempts) {
+                pending.back().map_or(0, |e| e.id)
+            } else {
+                l
+            }
+        });
         let live = Live {
             id: uuid,
             store: s.store.clone(),
@@ -110,6 +122,7 @@ struct Live {
 
 enum Wake {
     Event(Event),
+    Lagged,
     Missed,
     Shutdown,
 }
@@ -119,11 +132,12 @@ impl Live {
         stream::unfold(self, |mut s| async move {
             loop {
                 if let Some(event) = s.pending.pop_front() {
+                    // The final event ends the stream even when the client says it saw it.
+                    s.finished |= event.is_final();
                     if s.last_sent.is_some_and(|l| event.id <= l) {
                         continue;
                     }
                     s.last_sent = Some(event.id);
-                    s.finished = event.is_final();
                     return Some((Ok(to_sse(&event)), s));
                 }
                 if s.finished {
@@ -132,7 +146,8 @@ impl Live {
                 let wake = tokio::select! {
                     r = s.sub.rx.recv() => match r {
                         Ok(event) => Wake::Event(event),
-                        Err(RecvError::Lagged(_)) | Err(RecvError::Closed) => Wake::Missed,
+                        Err(RecvError::Lagged(_)) => Wake::Lagged,
+                        Err(RecvError::Closed) => Wake::Missed,
                     },
                     _ = s.poll.tick() => Wake::Missed,
                     _ = s.shutdown.wait_for(|down| *down) => Wake::Shutdown,
@@ -140,6 +155,15 @@ impl Live {
                 match wake {
                     Wake::Event(event) => s.pending.push_back(event),
                     Wake::Shutdown => return None,
+                    // Fell behind the channel: what it dropped is in the claim's replay (older
+                    // ids than those already sent are skipped above), then the store, in case
+                    // the job ended meanwhile.
+                    Wake::Lagged => {
+                        s.pending.extend(s.sub.replay());
+                        if let Ok(Some(record)) = s.store.job(s.id).await {
+                            s.pending.extend(final_event(&record));
+                        }
+                    }
                     // Re-read the store: the job may have ended where the hub cannot see.
                     Wake::Missed => {
                         if let Ok(Some(record)) = s.store.job(s.id).await {
@@ -149,5 +173,68 @@ impl Live {
                 }
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::service::hub::{final_id, Hub};
+    use crate::service::store::NewJob;
+    use futures::StreamExt;
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    #[tokio::test]
+    async fn a_listener_that_falls_behind_the_channel_still_gets_every_progress_event_it_missed() {
+        let dir = tempfile::tempdir().unwrap();
+        let url = format!("sqlite://{}", dir.path().join("t.db").display());
+        let store = Store::open(&url).await.unwrap();
+        let id = Uuid::new_v4();
+        let job = NewJob {
+            id,
+            case_json: "{}".into(),
+            label: None,
+            particles: 1,
+            idempotency_key: None,
+        };
+        store.submit(job, 10).await.unwrap();
+        store.claim("test").await.unwrap().unwrap();
+        // A channel of 4 and 50 events sent before the listener reads any: it lags.
+        let hub = Hub::new(4);
+        let mut publisher = hub.publisher(id, 1);
+        let sub = hub.subscribe(id);
+        for k in 0..50 {
+            publisher.send("progress", k.to_string());
+        }
+        publisher.send("done", "{}".into());
+        let (_down, shutdown) = watch::channel(false);
+        let live = Live {
+            id,
+            store,
+            sub,
+            pending: VecDeque::new(),
+            last_sent: None,
+            finished: false,
+            shutdown,
+            poll: tokio::time::interval(Duration::from_secs(3600)),
+            _permit: Arc::new(tokio::sync::Semaphore::new(1))
+                .try_acquire_owned()
+                .unwrap(),
+        };
+        let events: Vec<_> = tokio::time::timeout(
+            Duration::from_secs(10),
+            live.into_stream().collect::<Vec<_>>(),
+        )
+        .await
+        .expect("the stream ends after the final event");
+        let text: Vec<String> = events
+            .into_iter()
+            .map(|e| format!("{:?}", e.unwrap()))
+            .collect();
+        let progress = text.iter().filter(|t| t.contains("progress")).count();
+        assert_eq!(progress, 50, "every progress event, not only the last few");
+        assert!(text.last().unwrap().contains("done"));
+        assert!(text.last().unwrap().contains(&final_id(1).to_string()));
     }
 }

@@ -220,9 +220,26 @@ pub async fn cancel(
         }
         CancelOutcome::Requested(r) => {
             s.workers.cancel(uuid);
-            Ok((StatusCode::ACCEPTED, Json(JobView::new(&r, false))).into_response())
+            let body = CancelAccepted {
+                job: JobView::new(&r, false),
+                note: CANCEL_WINS,
+            };
+            Ok((StatusCode::ACCEPTED, Json(body)).into_response())
         }
     }
+}
+
+/// What a 202 to a cancel promises. The store makes it true: the result of a run is stored in
+/// one transaction that first checks for a cancel, so a cancel answered 202 always comes first.
+pub const CANCEL_WINS: &str = "the cancel wins: the job will end cancelled, even if its run \
+     completes before the solver stops, and nothing of the run is kept";
+
+/// The 202 answer to a cancel of a running job.
+#[derive(Debug, serde::Serialize)]
+struct CancelAccepted {
+    #[serde(flatten)]
+    job: JobView,
+    note: &'static str,
 }
 
 #[cfg(test)]

@@ -1,8 +1,8 @@
 //! `/healthz`, Prometheus `/metrics`, and `POST /v1/estimate`.
 
 use super::{json_text, AppState};
-use crate::service::error::ApiError;
-use crate::service::store::Status;
+use crate::service::error::{ApiError, STORE_RETRY_AFTER_S};
+use crate::service::store::{Status, StoreError};
 use crate::solver::{case::spec_from_json, estimate as solver_estimate, Case, Estimate};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
@@ -13,15 +13,21 @@ use axum::Json;
 use std::fmt::Write;
 use std::sync::atomic::Ordering;
 
+/// 200 while the database can be written (a one-row write commits in time and the file is the
+/// one opened); else 503 naming why, with `Retry-After`.
 pub async fn healthz(State(s): State<AppState>) -> Result<Response, ApiError> {
-    s.store.ping().await.map_err(|e| {
-        tracing::error!(error = %e, "health check: the database does not answer");
+    s.store.probe_write().await.map_err(|e| {
+        tracing::error!(error = %e, "health check: the database cannot be written");
+        let detail = match &e {
+            StoreError::FileGone(why) => why.clone(),
+            _ => "the database cannot be written".into(),
+        };
         ApiError::Unavailable {
-            detail: "the database does not answer".into(),
-            retry_after_s: 5,
+            detail,
+            retry_after_s: STORE_RETRY_AFTER_S,
         }
     })?;
-    Ok(Json(serde_json::json!({ "status": "ok" })).into_response())
+    Ok(Json(serde_json::json!({ "status": "ok", "database": "writable" })).into_response())
 }
 
 pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {

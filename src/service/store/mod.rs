@@ -3,6 +3,7 @@
 //! later. SQLite in WAL mode; every write transaction is `BEGIN IMMEDIATE`, so a writer takes the
 //! lock up front instead of failing on upgrade. Times are unix milliseconds.
 
+mod file;
 mod jobs;
 mod sweeps;
 mod worker;
@@ -16,18 +17,56 @@ use sqlx::sqlite::{
     SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous,
 };
 use std::str::FromStr;
-use std::time::Duration;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 use uuid::Uuid;
 
 /// What can go wrong in the store.
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
     #[error("database error: {0}")]
-    Db(#[from] sqlx::Error),
+    Db(sqlx::Error),
     #[error("migration failed: {0}")]
     Migrate(#[from] sqlx::migrate::MigrateError),
     #[error("stored data is not what it should be: {0}")]
     Corrupt(String),
+    /// The database file this server opened is no longer at its path (deleted, or replaced by
+    /// another file): anything written now would be lost.
+    #[error("{0}")]
+    FileGone(String),
+}
+
+impl StoreError {
+    /// Whether the error is the database's state rather than a bug: a full or read-only disk,
+    /// an I/O error, a lock held too long, a file deleted under the server. These heal (or
+    /// need an operator), so clients are told to come back (503), not that the server broke.
+    pub fn is_unavailable(&self) -> bool {
+        match self {
+            StoreError::FileGone(_) => true,
+            StoreError::Db(e) => transient(e),
+            StoreError::Migrate(_) | StoreError::Corrupt(_) => false,
+        }
+    }
+}
+
+/// SQLite's primary result codes that say the database cannot be used now, not that the
+/// statement was wrong: BUSY 5, LOCKED 6, NOMEM 7, READONLY 8, IOERR 10, CORRUPT 11 (as a
+/// disk error reads), FULL 13, CANTOPEN 14, PROTOCOL 15.
+const UNAVAILABLE_CODES: [i64; 9] = [5, 6, 7, 8, 10, 11, 13, 14, 15];
+
+fn transient(e: &sqlx::Error) -> bool {
+    match e {
+        sqlx::Error::Database(db) => db
+            .code()
+            .and_then(|c| c.parse::<i64>().ok())
+            .is_some_and(|c| UNAVAILABLE_CODES.contains(&(c & 0xff))),
+        sqlx::Error::Io(_)
+        | sqlx::Error::PoolTimedOut
+        | sqlx::Error::PoolClosed
+        | sqlx::Error::WorkerCrashed => true,
+        _ => false,
+    }
 }
 
 pub type Result<T> = std::result::Result<T, StoreError>;
@@ -97,7 +136,13 @@ pub struct JobRecord {
 #[derive(Debug, Clone)]
 pub struct Store {
     pool: SqlitePool,
+    /// The database file as opened; `None` for an in-memory database.
+    file: Option<std::sync::Arc<file::DbFile>>,
 }
+
+/// How long the health probe may wait for the write lock before it calls the database
+/// unavailable: a finishing job holds it for well under a second.
+pub const HEALTH_TIMEOUT: Duration = Duration::from_secs(3);
 
 impl Store {
     /// Opens (creating if missing) the database at `url` and runs the migrations.
@@ -108,23 +153,56 @@ impl Store {
             .synchronous(SqliteSynchronous::Normal)
             .foreign_keys(true)
             .busy_timeout(Duration::from_secs(10));
+        let in_memory = url.contains(":memory:") || url.contains("mode=memory");
+        let path = options.get_filename().to_path_buf();
         let pool = SqlitePoolOptions::new()
             .max_connections(8)
+            // A connection a failure may have broken is closed, not reused: see `fresh_enough`.
+            .before_acquire(|_, meta| Box::pin(async move { Ok(fresh_enough(meta.age)) }))
             .connect_with(options)
             .await?;
         sqlx::migrate!("./migrations").run(&pool).await?;
-        Ok(Store { pool })
+        let file = if in_memory {
+            None
+        } else {
+            let file = file::DbFile::opened(path).map_err(sqlx::Error::Io)?;
+            Some(std::sync::Arc::new(file))
+        };
+        Ok(Store { pool, file })
     }
 
-    /// A write transaction that holds the write lock from its first statement.
+    /// A write transaction that holds the write lock from its first statement. Refused when
+    /// the database file is no longer the one opened: a write there would be lost.
     async fn write(&self) -> Result<sqlx::Transaction<'static, sqlx::Sqlite>> {
+        self.check_file()?;
         Ok(self.pool.begin_with("BEGIN IMMEDIATE").await?)
     }
 
-    /// Whether the database answers.
-    pub async fn ping(&self) -> Result<()> {
-        sqlx::query("SELECT 1").execute(&self.pool).await?;
-        Ok(())
+    /// Whether the database file at the path is still the one this store opened; logs loudly
+    /// the first time it is not.
+    pub fn check_file(&self) -> Result<()> {
+        match &self.file {
+            Some(f) => f.check().map_err(StoreError::FileGone),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the database can be written now: the file is the one opened and a one-row
+    /// write commits within [`HEALTH_TIMEOUT`].
+    pub async fn probe_write(&self) -> Result<()> {
+        let probe = async {
+            let mut tx = self.write().await?;
+            sqlx::query("UPDATE health SET checked_at = ? WHERE id = 1")
+                .bind(now_ms())
+                .execute(&mut *tx)
+                .await?;
+            tx.commit().await?;
+            Ok(())
+        };
+        match tokio::time::timeout(HEALTH_TIMEOUT, probe).await {
+            Ok(result) => result,
+            Err(_) => Err(StoreError::Db(sqlx::Error::PoolTimedOut)),
+        }
     }
 
     /// Number of jobs in each state.
@@ -142,6 +220,37 @@ impl Store {
     pub async fn close(&self) {
         self.pool.close().await;
     }
+}
+
+/// When the database last failed in a way that can leave a connection unusable, as ms since
+/// [`trouble_clock`]'s start; 0: never. Process-wide: a failure of one store only makes
+/// another recycle its connections, which costs a reconnect.
+static TROUBLE_AT_MS: AtomicU64 = AtomicU64::new(0);
+
+fn trouble_clock() -> u64 {
+    static START: OnceLock<Instant> = OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_millis() as u64 + 1
+}
+
+impl From<sqlx::Error> for StoreError {
+    fn from(e: sqlx::Error) -> StoreError {
+        if transient(&e) {
+            TROUBLE_AT_MS.store(trouble_clock(), Ordering::Relaxed);
+        }
+        StoreError::Db(e)
+    }
+}
+
+/// Whether a pooled connection may serve a request: not if it existed when the database last
+/// failed. A full or read-only disk leaves connections that cannot write again: a transaction
+/// SQLite rolled back by itself while sqlx still counts it open (every later `BEGIN` then fails
+/// with "attempted to call begin_with at non-zero transaction depth"), and files SQLite opened
+/// read-only while they could not be written, which stay so for the connection's life. A
+/// fresh connection has neither, so the first request after the disk heals works.
+fn fresh_enough(age: Duration) -> bool {
+    let trouble = TROUBLE_AT_MS.load(Ordering::Relaxed);
+    let created = trouble_clock().saturating_sub(age.as_millis() as u64);
+    trouble == 0 || created > trouble
 }
 
 /// Unix time now, ms.
@@ -190,9 +299,51 @@ fn parse_uuid(s: &str) -> Result<Uuid> {
     Uuid::parse_str(s).map_err(|_| StoreError::Corrupt(format!("{s:?} is not a UUID")))
 }
 
+/// A summary of the default case with no history (every field filled by the solver's own
+/// `summarize`, so it keeps up with new fields), for tests of what the store keeps.
+#[cfg(test)]
+pub(crate) fn sample_summary() -> crate::solver::Summary {
+    use crate::solver::{scene::lattice_positions, summarize, Case, Limits, RunCost, Snapshot};
+    let case = Case::from_json(
+        "{}",
+        &Limits {
+            max_particles: u64::MAX,
+        },
+    )
+    .unwrap();
+    let at_rest = lattice_positions(&case);
+    let snapshot = Snapshot {
+        plastic_strain: vec![0.0; at_rest.len()],
+        position_mm: at_rest.clone(),
+        initial_mm: at_rest,
+    };
+    let cost = RunCost {
+        particles: 1234,
+        steps: 567,
+        wall_time_s: 8.5,
+        ..RunCost::default()
+    };
+    let mut summary = summarize(&case, &[], &snapshot, cost);
+    summary.mean_load_n = 1.5e4;
+    summary.peak_load_n = 2.5e4;
+    summary.energy_absorbed_mj = 3.25e5;
+    summary.crush_distance_mm = 21.5;
+    summary.folds = 3;
+    summary.energy_balance_error = 0.0125;
+    summary
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_full_or_read_only_disk_is_unavailable_and_a_bad_statement_is_not() {
+        assert!(StoreError::Db(sqlx::Error::PoolTimedOut).is_unavailable());
+        assert!(StoreError::FileGone("gone".into()).is_unavailable());
+        assert!(!StoreError::Corrupt("x".into()).is_unavailable());
+        assert!(!StoreError::Db(sqlx::Error::RowNotFound).is_unavailable());
+    }
 
     #[test]
     fn status_names_round_trip() {

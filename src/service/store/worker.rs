@@ -98,13 +98,15 @@ impl Store {
     }
 
     /// Stores a successful run: history, summary, final particle state (when kept) and job
-    /// state together. False when the lease was lost (nothing is written).
+    /// state together, and returns `Succeeded`. A cancel accepted while the job ran wins: then
+    /// nothing of the run is kept and the job is `Cancelled`. `None` when the lease was lost
+    /// (nothing is written).
     pub async fn finish_succeeded(
         &self,
         id: Uuid,
         lease: Uuid,
         result: Succeeded<'_>,
-    ) -> Result<bool> {
+    ) -> Result<Option<Status>> {
         let Succeeded {
             history,
             summary,
@@ -124,8 +126,13 @@ impl Store {
             .and_then(|v| v.as_str())
             .unwrap_or("unknown");
         let mut tx = self.write().await?;
-        if !holds(&mut tx, id, lease).await? {
-            return Ok(false);
+        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+            return Ok(None);
+        };
+        if cancel_requested {
+            end_run(&mut tx, id, Status::Cancelled, None).await?;
+            tx.commit().await?;
+            return Ok(Some(Status::Cancelled));
         }
         let job = id.to_string();
         // A retried job starts from nothing: no row of an earlier attempt survives.
@@ -193,54 +200,74 @@ impl Store {
         .execute(&mut *tx)
         .await?;
         tx.commit().await?;
-        Ok(true)
+        Ok(Some(Status::Succeeded))
     }
 
-    /// Ends a run as failed (with the reason) or cancelled. False when the lease was lost.
+    /// Ends a run as failed (with the reason) or cancelled, and returns the status stored: a
+    /// cancel accepted while the job ran wins over a failure (the reason is kept). `None` when
+    /// the lease was lost.
     pub async fn finish_unsuccessful(
         &self,
         id: Uuid,
         lease: Uuid,
         status: Status,
         error: Option<&str>,
-    ) -> Result<bool> {
+    ) -> Result<Option<Status>> {
         debug_assert!(matches!(status, Status::Failed | Status::Cancelled));
         let mut tx = self.write().await?;
-        let done = sqlx::query(
-            "UPDATE jobs SET status = ?, error = ?, finished_at = ?, lease = NULL, heartbeat_at = NULL \
-             WHERE id = ? AND lease = ? AND status = 'running'",
-        )
-        .bind(status.as_str())
-        .bind(error)
-        .bind(now_ms())
-        .bind(id.to_string())
-        .bind(lease.to_string())
-        .execute(&mut *tx)
-        .await?
-        .rows_affected();
+        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+            return Ok(None);
+        };
+        let status = if cancel_requested {
+            Status::Cancelled
+        } else {
+            status
+        };
+        end_run(&mut tx, id, status, error).await?;
         tx.commit().await?;
-        Ok(done == 1)
+        Ok(Some(status))
     }
 
-    /// Puts a job this worker could not finish (shutdown) back in the queue.
-    pub async fn requeue(&self, id: Uuid, lease: Uuid) -> Result<bool> {
+    /// Puts a job this worker could not finish (shutdown) back in the queue, and returns
+    /// `Queued`; or, when a cancel was asked, `Cancelled`; or, when it has been claimed
+    /// `max_attempts` times already, `Failed`. `None` when the lease was lost.
+    pub async fn requeue(
+        &self,
+        id: Uuid,
+        lease: Uuid,
+        max_attempts: u32,
+    ) -> Result<Option<Status>> {
         let mut tx = self.write().await?;
-        let done = sqlx::query(
-            "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, heartbeat_at = NULL, \
-             progress_json = NULL, progress_fraction = NULL \
-             WHERE id = ? AND lease = ? AND status = 'running'",
-        )
-        .bind(id.to_string())
-        .bind(lease.to_string())
-        .execute(&mut *tx)
-        .await?
-        .rows_affected();
+        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+            return Ok(None);
+        };
+        let (attempts,): (i64,) = sqlx::query_as("SELECT attempts FROM jobs WHERE id = ?")
+            .bind(id.to_string())
+            .fetch_one(&mut *tx)
+            .await?;
+        let status = if cancel_requested {
+            end_run(&mut tx, id, Status::Cancelled, None).await?;
+            Status::Cancelled
+        } else if attempts >= max_attempts as i64 {
+            let error = out_of_attempts(attempts);
+            end_run(&mut tx, id, Status::Failed, Some(&error)).await?;
+            Status::Failed
+        } else {
+            sqlx::query(
+                "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, \
+                 heartbeat_at = NULL, progress_json = NULL, progress_fraction = NULL WHERE id = ?",
+            )
+            .bind(id.to_string())
+            .execute(&mut *tx)
+            .await?;
+            Status::Queued
+        };
         tx.commit().await?;
-        Ok(done == 1)
+        Ok(Some(status))
     }
 
     /// Running jobs whose heartbeat is older than `stale_ms`: back to the queue, or failed
-    /// once their worker has been lost `max_attempts` times, or cancelled if that was asked.
+    /// once they have been claimed `max_attempts` times, or cancelled if that was asked.
     pub async fn reap_stale(&self, stale_ms: i64, max_attempts: u32) -> Result<Reaped> {
         let now = now_ms();
         let cutoff = now - stale_ms;
@@ -259,9 +286,9 @@ impl Store {
         .await?;
         let failed = sqlx::query_as(
             "UPDATE jobs SET status = 'failed', finished_at = ?1, lease = NULL, heartbeat_at = NULL, \
-             lost = lost + 1, error = 'the worker running this job stopped answering ' \
-             || (lost + 1) || ' times; not retried again' \
-             WHERE status = 'running' AND heartbeat_at < ?2 AND lost + 1 >= ?3 RETURNING id",
+             lost = lost + 1, error = 'started ' || attempts || ' times (the most allowed) and ' \
+             || 'never finished: its worker stopped answering ' || (lost + 1) || ' of them' \
+             WHERE status = 'running' AND heartbeat_at < ?2 AND attempts >= ?3 RETURNING id",
         )
         .bind(now)
         .bind(cutoff)
@@ -285,15 +312,45 @@ impl Store {
     }
 }
 
-/// Whether `lease` still holds the running job `id`.
-async fn holds(tx: &mut sqlx::Transaction<'static, Sqlite>, id: Uuid, lease: Uuid) -> Result<bool> {
-    let row: Option<(i64,)> =
-        sqlx::query_as("SELECT 1 FROM jobs WHERE id = ? AND lease = ? AND status = 'running'")
-            .bind(id.to_string())
-            .bind(lease.to_string())
-            .fetch_optional(&mut **tx)
-            .await?;
-    Ok(row.is_some())
+/// Whether `lease` still holds the running job `id`: `Some(cancel_requested)` if it does.
+async fn holds(
+    tx: &mut sqlx::Transaction<'static, Sqlite>,
+    id: Uuid,
+    lease: Uuid,
+) -> Result<Option<bool>> {
+    let row: Option<(i64,)> = sqlx::query_as(
+        "SELECT cancel_requested FROM jobs WHERE id = ? AND lease = ? AND status = 'running'",
+    )
+    .bind(id.to_string())
+    .bind(lease.to_string())
+    .fetch_optional(&mut **tx)
+    .await?;
+    Ok(row.map(|(c,)| c != 0))
+}
+
+/// Ends a held run as `status` (failed or cancelled) with an optional reason.
+async fn end_run(
+    tx: &mut sqlx::Transaction<'static, Sqlite>,
+    id: Uuid,
+    status: Status,
+    error: Option<&str>,
+) -> Result<()> {
+    sqlx::query(
+        "UPDATE jobs SET status = ?, error = ?, finished_at = ?, lease = NULL, heartbeat_at = NULL \
+         WHERE id = ?",
+    )
+    .bind(status.as_str())
+    .bind(error)
+    .bind(now_ms())
+    .bind(id.to_string())
+    .execute(&mut **tx)
+    .await?;
+    Ok(())
+}
+
+/// Why a job that used up its attempts failed.
+fn out_of_attempts(attempts: i64) -> String {
+    format!("started {attempts} times (the most allowed) and never finished; not retried again")
 }
 
 #[cfg(test)]
@@ -333,18 +390,78 @@ mod tests {
             store.heartbeat(j.id, first.lease, None).await.unwrap(),
             None
         );
-        let summary_free = store
+        let stored = store
             .finish_unsuccessful(j.id, first.lease, Status::Failed, Some("x"))
             .await
             .unwrap();
-        assert!(!summary_free, "the old lease must not write");
+        assert_eq!(stored, None, "the old lease must not write");
         let second = store.claim("b").await.unwrap().unwrap();
         assert_eq!(second.attempt, 2);
         let reaped = store.reap_stale(-1000, 2).await.unwrap();
         assert_eq!(reaped.failed, vec![j.id]);
         let rec = store.job(j.id).await.unwrap().unwrap();
         assert_eq!(rec.status, Status::Failed);
-        assert!(rec.error.unwrap().contains("stopped answering 2 times"));
+        assert!(rec.error.unwrap().contains("started 2 times"));
+    }
+
+    #[tokio::test]
+    async fn max_attempts_counts_claims_including_requeues_after_a_graceful_shutdown() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        // Two graceful shutdowns: the first puts the job back, the second has used both
+        // attempts and fails it.
+        let first = store.claim("a").await.unwrap().unwrap();
+        let back = store.requeue(j.id, first.lease, 2).await.unwrap();
+        assert_eq!(back, Some(Status::Queued));
+        let second = store.claim("b").await.unwrap().unwrap();
+        assert_eq!(second.attempt, 2);
+        let back = store.requeue(j.id, second.lease, 2).await.unwrap();
+        assert_eq!(back, Some(Status::Failed));
+        let rec = store.job(j.id).await.unwrap().unwrap();
+        assert_eq!(rec.status, Status::Failed);
+        assert!(rec.error.unwrap().contains("started 2 times"));
+        assert!(store.claim("c").await.unwrap().is_none());
+
+        // One graceful requeue, then a lost worker: the second claim was the last.
+        let k = job();
+        store.submit(k.clone(), 10).await.unwrap();
+        let first = store.claim("a").await.unwrap().unwrap();
+        store.requeue(k.id, first.lease, 2).await.unwrap();
+        store.claim("b").await.unwrap().unwrap();
+        let reaped = store.reap_stale(-1000, 2).await.unwrap();
+        assert_eq!(reaped.failed, vec![k.id]);
+    }
+
+    #[tokio::test]
+    async fn a_cancel_accepted_while_running_wins_over_a_result_stored_after_it() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        assert!(matches!(
+            store.cancel(j.id).await.unwrap(),
+            crate::service::store::CancelOutcome::Requested(_)
+        ));
+        let summary = crate::service::store::sample_summary();
+        let result = Succeeded {
+            history: &[],
+            summary: &summary,
+            final_state: None,
+            progress_json: None,
+        };
+        let stored = store.finish_succeeded(j.id, claim.lease, result).await;
+        assert_eq!(stored.unwrap(), Some(Status::Cancelled));
+        let rec = store.job(j.id).await.unwrap().unwrap();
+        assert_eq!(rec.status, Status::Cancelled);
+        assert!(rec.summary_json.is_none(), "nothing of the run is kept");
+        // A requeue (shutdown) of a job whose cancel was asked cancels it too.
+        let k = job();
+        store.submit(k.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        store.cancel(k.id).await.unwrap();
+        let back = store.requeue(k.id, claim.lease, 3).await.unwrap();
+        assert_eq!(back, Some(Status::Cancelled));
     }
 
     #[test]
