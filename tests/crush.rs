@@ -78,8 +78,8 @@ fn the_start_ramp_removes_the_impact() {
 }
 
 /// Folds are counted from the final shape: the coarse crush over 20 mm forms one fold at the
-/// moving plate (its section shows one outward lobe of 7 mm, 2.2 t, and barrelling waves of
-/// 0.5 t below it), while its load curve drops twice.
+/// moving plate (its section shows one outward lobe of 7 mm, 2.2 t, and a smooth bulge of
+/// 1.8 mm, 0.56 t, below it), while its load curve drops twice.
 #[test]
 fn folds_are_counted_from_the_shape_not_the_load_curve() {
     let c = case(

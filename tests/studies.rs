@@ -91,7 +91,7 @@ fn stability_study_passes_refuses_and_names_every_variant() {
             "--crush-mm",
             "6",
             "--only",
-            "base,n-1,speed-300,cfl-1.5",
+            "base,n-1,speed-300,cfl-1.5,cfl-2",
             "--threads",
             "2",
             "--out",
@@ -108,15 +108,19 @@ fn stability_study_passes_refuses_and_names_every_variant() {
             .unwrap_or_else(|| panic!("no row for {name}:\n{report}"))
             .to_string()
     };
-    // The coarse base case closes its energy balance within 5 % (as tests/crush.rs checks).
-    assert!(line("base").contains("| pass |"), "{}", line("base"));
-    // The extreme ones may drift, but must complete with finite values or stop with a reason.
-    for name in ["n-1", "speed-300"] {
+    // The coarse base case closes its energy balance within 5 % (1.2 % measured), one
+    // particle through the wall too (2.4 % measured), and so does the 300 m/s impact now that
+    // the catch of nodes by the plate is booked (3.3 % measured; 47 % before).
+    for name in ["base", "n-1", "speed-300"] {
         let l = line(name);
-        assert!(l.contains("completed") || l.contains("stopped:"), "{l}");
-        assert!(l.contains("| pass") || l.contains("| DRIFT"), "{l}");
-        assert!(!l.to_lowercase().contains("nan"), "{l}");
+        assert!(l.contains("completed") && l.ends_with("| pass |"), "{l}");
     }
+    // Forced past the stability limit, the run must be stopped with its diagnosis.
+    let forced = line("cfl-2-forced");
+    assert!(
+        forced.contains("stopped: unstable") && forced.contains("pass (stopped"),
+        "{forced}"
+    );
     let refused = line("cfl-1.5");
     assert!(
         refused.contains("refused") && refused.contains("discretization.cfl"),

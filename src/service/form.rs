@@ -111,7 +111,7 @@ const SPECS: &[Spec] = &[
     other("loading.mode", "Loading", Kind::Choice, &["axial", "lateral"], "Axial: plates normal to the axis. Lateral: the tube lies between the plates."),
     num("loading.plate_speed_m_s", "Plate speed", "m/s", POSITIVE, None, "Below half the material's wave speed."),
     num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral)."),
-    num("loading.ramp_mm", "Start ramp", "mm", Some((0.0, false)), None, "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Less than the crush distance."),
+    num("loading.ramp_mm", "Start ramp", "mm", Some((0.0, false)), None, "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Empty: 0.5 mm, or half the crush distance if less. At most the crush distance."),
     num("contact.friction", "Plate friction μ", "", Some((0.0, false)), Some((2.0, false)), "Coulomb friction between tube and plates."),
     Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((16.0, false)), "Spacing h = t / n. Cost grows about as n⁴.") },
     num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),
@@ -132,8 +132,8 @@ pub fn fields() -> Vec<Field> {
         .iter()
         .map(|s| {
             let pointer = format!("/{}", s.field.replace('.', "/"));
-            // Only the fields the server fills in itself (label, crush distance) have no
-            // default in the serialized case: those are the optional ones.
+            // Only the fields the server fills in itself (label, crush distance, start ramp)
+            // have no default in the serialized case: those are the optional ones.
             let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
             Field {
                 field: s.field,
@@ -206,7 +206,10 @@ mod tests {
             .filter(|f| f.optional)
             .map(|f| f.field)
             .collect();
-        assert_eq!(optional, ["label", "loading.crush_distance_mm"]);
+        assert_eq!(
+            optional,
+            ["label", "loading.crush_distance_mm", "loading.ramp_mm"]
+        );
     }
 
     #[test]

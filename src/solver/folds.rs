@@ -7,10 +7,10 @@
 //! slice's centroid (so a tube that drifted sideways is measured about its own centre line),
 //! less the undeformed outer radius (d + t)/2. Along the axis this profile rises at each fold's
 //! outer hinge and falls between folds; a ring fold and a layer of diamond lobes both reach
-//! out, at every angle or at the lobes' corners. A fold is a rise of at least
-//! [`FOLD_PROMINENCE_T`] wall thicknesses followed by a fall of as much (hysteresis, as in the
-//! load-drop counter); the plates count as the undeformed surface, so a fold flattened against a
-//! plate counts too. A three-slice running median first removes single-particle outliers.
+//! out, at every angle or at the lobes' corners. A fold is a bump that reaches at least
+//! [`FOLD_REACH_T`] wall thicknesses out, with a rise of at least [`FOLD_PROMINENCE_T`] before
+//! it and a fall of as much after (hysteresis, as in the load-drop counter); the plates count
+//! as the undeformed surface, so a fold flattened against a plate counts too. A three-slice running median first removes single-particle outliers.
 //!
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
@@ -18,11 +18,16 @@
 use super::case::LoadingMode;
 use super::{Case, Real, Snapshot};
 
-/// The rise and fall of the outer profile that makes a fold, in wall thicknesses. A fold's
-/// outer hinge stands out by about half the fold length (several t); the barrelling waves
-/// between folds stand about half a wall thickness (measured on the n = 2 axial crush over
-/// 20 mm: waves of 1.6 mm, 0.5 t, beside one fold of 7.2 mm, 2.2 t).
-pub const FOLD_PROMINENCE_T: Real = 1.0;
+/// The rise and fall of the outer profile that makes a fold, in wall thicknesses. Measured:
+/// the notches between the three stacked folds of the axial example (t 3.2, n = 6, 50 mm) are
+/// 2.5–4.5 mm deep, 0.78 t and more. Half a wall thickness keeps room below that.
+pub const FOLD_PROMINENCE_T: Real = 0.5;
+
+/// How far beyond the undeformed outer surface a fold's outer hinge must reach, in wall
+/// thicknesses. A fold's hinge goes out by about half the fold length: 5.5–7.5 mm (1.7–2.3 t)
+/// in the axial example; the smooth barrelling bulges of the n = 2 crush over 20 mm reach
+/// 1.6–1.8 mm (0.5–0.56 t) beside its one fold of 7 mm. One wall thickness lies between.
+pub const FOLD_REACH_T: Real = 1.0;
 
 /// The number of folds of an axial crush from its final shape; 0 for lateral loading.
 pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
@@ -32,7 +37,7 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
     }
     let (t, d) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm);
     let profile = outer_profile(&snapshot.position_mm, case.spacing_mm(), 0.5 * (d + t));
-    count_bumps(&median3(&profile), FOLD_PROMINENCE_T * t)
+    count_bumps(&median3(&profile), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t)
 }
 
 /// Per slice of width `h` along z (bottom to top, empty slices left out): the largest distance
@@ -82,15 +87,16 @@ fn median3(v: &[Real]) -> Vec<Real> {
         .collect()
 }
 
-/// Bumps of `profile` that rise at least `margin` above the trough before them and fall as much
-/// after; both ends stand on a trough at 0 (the plates hold the undeformed surface).
-fn count_bumps(profile: &[Real], margin: Real) -> u32 {
+/// Bumps of `profile` that reach `reach` and rise at least `margin` above the trough before
+/// them and fall as much after; both ends stand on a trough at 0 (the plates hold the
+/// undeformed surface).
+fn count_bumps(profile: &[Real], margin: Real, reach: Real) -> u32 {
     let (mut rising, mut trough, mut peak, mut bumps) = (true, 0.0, Real::MIN, 0);
     for &v in profile.iter().chain(std::iter::once(&0.0)) {
         if rising {
             if v > peak {
                 peak = v;
-            } else if peak - v >= margin && peak - trough >= margin {
+            } else if peak - v >= margin && peak - trough >= margin && peak >= reach {
                 bumps += 1;
                 (rising, trough) = (false, v);
             }
@@ -145,11 +151,15 @@ mod tests {
     fn three_ring_folds_are_three() {
         let snap = wall(36.0, |z, _| lobes(z, 4.0));
         assert_eq!(count_folds(&case(), &snap), 3);
+        // Stacked folds whose outer hinges touch: notches of 2.5 mm (0.78 t) between them.
+        let stacked = wall(36.0, |z, _| 5.0 - 2.5 * (2.0 * PI * z / 12.0).cos());
+        assert_eq!(count_folds(&case(), &stacked), 3);
     }
 
     #[test]
-    fn barrelling_waves_of_half_a_wall_are_no_folds() {
-        let snap = wall(36.0, |z, _| lobes(z, 1.6));
+    fn barrelling_waves_are_no_folds() {
+        // 1.8 mm, 0.56 t: the bulges of the n = 2 crush over 20 mm.
+        let snap = wall(36.0, |z, _| lobes(z, 1.8));
         assert_eq!(count_folds(&case(), &snap), 0);
         assert_eq!(count_folds(&case(), &wall(36.0, |_, _| 0.0)), 0);
     }
@@ -160,7 +170,11 @@ mod tests {
     fn diamond_layers_are_counted_once_each() {
         let snap = wall(48.0, |z, th| {
             let layer = (z / 12.0) as usize;
-            let turn = if layer.is_multiple_of(2) { 0.0 } else { PI / 2.0 };
+            let turn = if layer.is_multiple_of(2) {
+                0.0
+            } else {
+                PI / 2.0
+            };
             4.0 * (2.0 * (th - turn)).cos() * (PI * (z % 12.0) / 12.0).sin()
         });
         assert_eq!(count_folds(&case(), &snap), 4);

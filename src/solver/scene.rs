@@ -155,7 +155,7 @@ impl Scene {
             cfl: spec.discretization.cfl,
             average_volumetric: spec.discretization.volumetric_averaging,
             domain,
-            ramp: Ramp::over(spec.loading.ramp_mm, speed),
+            ramp: Ramp::over(case.ramp_mm(), speed),
         };
         let trigger = &spec.trigger;
         let weak = (trigger.weak_fraction * scene.particles.len() as Real).round() as usize;

@@ -129,12 +129,7 @@ impl GroupAnalysis {
         self.rows
             .iter()
             .filter(|r| trusted || r.run.n != finest)
-            .filter(|r| {
-                self.rows
-                    .iter()
-                    .filter(|f| f.run.n >= r.run.n)
-                    .all(&within)
-            })
+            .filter(|r| self.rows.iter().filter(|f| f.run.n >= r.run.n).all(&within))
             .min_by(|a, b| a.run.wall_time_s.total_cmp(&b.run.wall_time_s))
     }
 }
