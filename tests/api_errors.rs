@@ -494,3 +494,40 @@ async fn bodies_ids_and_cursors_are_read_one_way_only() {
         assert_eq!(p["field"], "cursor", "{p}");
     }
 }
+
+/// Issue 10: a 414 and the 400s of a malformed header came from hyper with no body; now they
+/// are problem+json like every other error.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn errors_hyper_answers_itself_are_problem_json_too() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let addr = app.url.trim_start_matches("http://").to_string();
+    let long = format!(
+        "GET /v1/jobs?label={} HTTP/1.1\r\nhost: x\r\n\r\n",
+        "a".repeat(70_000)
+    );
+    for (request, status) in [
+        (long, "414"),
+        (
+            "GET /healthz HTTP/1.1\r\nhost: x\r\nbad header line\r\n\r\n".to_string(),
+            "400",
+        ),
+    ] {
+        let mut tcp = tokio::net::TcpStream::connect(&addr).await.unwrap();
+        // The server may answer and close before it has read the whole request.
+        let _ = tcp.write_all(request.as_bytes()).await;
+        let mut answer = Vec::new();
+        let _ = tokio::time::timeout(Duration::from_secs(10), tcp.read_to_end(&mut answer)).await;
+        let answer = String::from_utf8_lossy(&answer).to_string();
+        assert!(
+            answer.starts_with(&format!("HTTP/1.1 {status} ")),
+            "{answer}"
+        );
+        assert!(answer.contains("application/problem+json"), "{answer}");
+        let body: Value = serde_json::from_str(answer.split("\r\n\r\n").nth(1).unwrap()).unwrap();
+        assert_eq!(body["status"].to_string(), status, "{body}");
+    }
+    // Ordinary answers pass untouched.
+    assert_eq!(app.get("/healthz").await.status(), 200);
+    problem(app.get("/v1/nothing").await, 404).await;
+}

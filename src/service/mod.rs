@@ -1,6 +1,7 @@
 //! The HTTP job service around the solver: routes ([`app`]), the job store (all SQL), the
 //! worker pool, the progress hub and SSE. `crush serve` calls [`serve`]; tests call [`start`].
 
+mod bare_errors;
 mod error;
 mod form;
 pub mod hub;
@@ -211,7 +212,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         let until = async move {
             let _ = down.wait_for(|d| *d).await;
         };
-        let served = axum::serve(listener, router)
+        let served = axum::serve(bare_errors::ProblemListener(listener), router)
             .with_graceful_shutdown(until)
             .await;
         tracing::info!("shutting down: waiting for running jobs");
