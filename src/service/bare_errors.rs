@@ -45,6 +45,10 @@ pub struct ProblemIo {
 
 /// The problem answer standing for hyper's bare head `buf`, if it is one.
 fn rewrite(buf: &[u8]) -> Option<Vec<u8>> {
+    // Cheap test first: most writes are bodies or successful heads.
+    if !buf.starts_with(b"HTTP/1.1 4") || buf.len() > 4096 {
+        return None;
+    }
     let head = std::str::from_utf8(buf).ok()?;
     let (status, title, kind) = match head.get(..13)? {
         "HTTP/1.1 400 " => (400, "Bad request", "bad-request"),
