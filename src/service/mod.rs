@@ -202,6 +202,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         workers: workers.clone(),
         limits: Arc::new(limits),
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
+        heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
         shutdown: shutdown_rx.clone(),
     };
     let handles = workers.spawn();

@@ -2,12 +2,15 @@
 //! particle: position x, y, z in mm, then the equivalent plastic strain) and as clients download
 //! it: a VTK XML unstructured grid (`.vtu`, one vertex cell per particle) that ParaView opens,
 //! with the plastic strain and the displacement from the start (mm) as point data.
+//!
+//! The file is written straight to any `Write` (the download streams it in chunks), never
+//! built whole: its arrays are inline base64 of (u64 byte count, little-endian values), as
+//! vtkio and VTK write them.
 
 use crate::solver::Snapshot;
-use vtkio::model::{
-    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer,
-    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
-};
+use base64::engine::general_purpose::STANDARD;
+use base64::write::EncoderWriter;
+use std::io::{self, Write};
 
 /// Bytes per particle in the stored form.
 pub const BYTES_PER_PARTICLE: usize = 16;
@@ -59,64 +62,106 @@ pub fn decode(particles: usize, bytes: &[u8]) -> Option<FinalState> {
     Some(state)
 }
 
-/// The state as a `.vtu` document; `initial_mm` (same order and length) gives the displacement.
-pub fn vtu(title: &str, initial_mm: &[[f64; 3]], state: &FinalState) -> anyhow::Result<Vec<u8>> {
-    anyhow::ensure!(
-        initial_mm.len() == state.len(),
-        "{} start positions for {} particles",
-        initial_mm.len(),
-        state.len()
-    );
-    let n = state.len() as u64;
-    let points: Vec<f32> = state.position_mm.iter().flatten().copied().collect();
-    let displacement: Vec<f32> = state
-        .position_mm
-        .iter()
-        .zip(initial_mm)
-        .flat_map(|(x, x0)| (0..3).map(move |k| x[k] - x0[k] as f32))
-        .collect();
-    let vtk = Vtk {
-        version: Version::new_xml(1, 0),
-        title: title.to_string(),
-        byte_order: ByteOrder::LittleEndian,
-        file_path: None,
-        data: DataSet::inline(UnstructuredGridPiece {
-            points: IOBuffer::F32(points),
-            cells: Cells {
-                cell_verts: VertexNumbers::XML {
-                    connectivity: (0..n).collect(),
-                    offsets: (1..=n).collect(),
-                },
-                types: vec![CellType::Vertex; n as usize],
-            },
-            data: Attributes {
-                point: vec![
-                    Attribute::DataArray(DataArray {
-                        name: "plastic_strain".into(),
-                        elem: ElementType::Scalars {
-                            num_comp: 1,
-                            lookup_table: None,
-                        },
-                        data: IOBuffer::F32(state.plastic_strain.clone()),
-                    }),
-                    Attribute::DataArray(DataArray {
-                        name: "displacement_mm".into(),
-                        elem: ElementType::Vectors,
-                        data: IOBuffer::F32(displacement),
-                    }),
-                ],
-                cell: vec![],
-            },
-        }),
-    };
+/// VTK's cell type of a single vertex.
+const VTK_VERTEX: u8 = 1;
+
+/// Writes the state as a `.vtu` document to `out`; `initial_mm` (same order and length) gives
+/// the displacement. Memory: a few bytes beyond what `out` buffers.
+pub fn write_vtu(
+    out: &mut impl Write,
+    initial_mm: &[[f64; 3]],
+    state: &FinalState,
+) -> io::Result<()> {
+    if initial_mm.len() != state.len() {
+        return Err(io::Error::other(format!(
+            "{} start positions for {} particles",
+            initial_mm.len(),
+            state.len()
+        )));
+    }
+    let n = state.len();
+    write!(
+        out,
+        "<?xml version=\"1.0\"?>\n\
+         <VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" \
+         header_type=\"UInt64\">\n<UnstructuredGrid>\n\
+         <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n<PointData>\n"
+    )?;
+    array(out, "Float32", Some("plastic_strain"), 1, n * 4, |w| {
+        for e in &state.plastic_strain {
+            w.write_all(&e.to_le_bytes())?;
+        }
+        Ok(())
+    })?;
+    array(out, "Float32", Some("displacement_mm"), 3, n * 12, |w| {
+        for (x, x0) in state.position_mm.iter().zip(initial_mm) {
+            for k in 0..3 {
+                w.write_all(&(x[k] - x0[k] as f32).to_le_bytes())?;
+            }
+        }
+        Ok(())
+    })?;
+    out.write_all(b"</PointData>\n<CellData>\n</CellData>\n<Points>\n")?;
+    array(out, "Float32", None, 3, n * 12, |w| {
+        for x in &state.position_mm {
+            for v in x {
+                w.write_all(&v.to_le_bytes())?;
+            }
+        }
+        Ok(())
+    })?;
+    out.write_all(b"</Points>\n<Cells>\n")?;
+    array(out, "Int64", Some("connectivity"), 1, n * 8, |w| {
+        (0..n as i64).try_for_each(|i| w.write_all(&i.to_le_bytes()))
+    })?;
+    array(out, "Int64", Some("offsets"), 1, n * 8, |w| {
+        (1..=n as i64).try_for_each(|i| w.write_all(&i.to_le_bytes()))
+    })?;
+    array(out, "UInt8", Some("types"), 1, n, |w| {
+        (0..n).try_for_each(|_| w.write_all(&[VTK_VERTEX]))
+    })?;
+    out.write_all(b"</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
+}
+
+/// One inline binary `DataArray`: base64 of the byte count (u64) then `bytes` bytes of values,
+/// as `values` writes them.
+fn array<W: Write>(
+    out: &mut W,
+    kind: &str,
+    name: Option<&str>,
+    components: u32,
+    bytes: usize,
+    values: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let name = name.map_or(String::new(), |n| format!(" Name=\"{n}\""));
+    write!(
+        out,
+        "<DataArray type=\"{kind}\"{name} NumberOfComponents=\"{components}\" format=\"binary\">"
+    )?;
+    {
+        // Small writes, buffered before the encoder so that it encodes in long runs.
+        let mut encoder = EncoderWriter::new(&mut *out, &STANDARD);
+        encoder.write_all(&(bytes as u64).to_le_bytes())?;
+        let mut buffered = io::BufWriter::with_capacity(48 * 1024, &mut encoder);
+        values(&mut buffered)?;
+        buffered.flush()?;
+        drop(buffered);
+        encoder.finish()?;
+    }
+    out.write_all(b"</DataArray>\n")
+}
+
+/// The state as a `.vtu` document in memory (tests, small states).
+pub fn vtu(initial_mm: &[[f64; 3]], state: &FinalState) -> io::Result<Vec<u8>> {
     let mut out = Vec::new();
-    vtk.write_xml(&mut out)?;
+    write_vtu(&mut out, initial_mm, state)?;
     Ok(out)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vtkio::model::{Attribute, DataSet, Vtk};
 
     fn snapshot() -> Snapshot {
         Snapshot {
@@ -142,7 +187,7 @@ mod tests {
     fn the_vtu_reads_back_with_every_particle_and_its_displacement() {
         let s = snapshot();
         let state = decode(3, &encode(&s)).unwrap();
-        let bytes = vtu("test", &s.initial_mm, &state).unwrap();
+        let bytes = vtu(&s.initial_mm, &state).unwrap();
         let text = String::from_utf8(bytes.clone()).unwrap();
         assert!(text.contains("UnstructuredGrid") && text.contains("plastic_strain"));
         let vtk = Vtk::parse_xml(&bytes[..]).unwrap();
@@ -163,6 +208,6 @@ mod tests {
         };
         let d: Vec<f32> = array.data.clone().cast_into().unwrap();
         assert_eq!(d, vec![0.5, 0.0, -1.0, 0.0, 0.25, -1.0, 0.0, 0.0, -0.5]);
-        assert!(vtu("bad", &s.initial_mm[..2], &state).is_err());
+        assert!(vtu(&s.initial_mm[..2], &state).is_err());
     }
 }

@@ -8,6 +8,8 @@ mod page;
 mod results;
 mod sweeps;
 
+pub use results::HEAVY_AT_ONCE;
+
 use super::error::{ApiError, PROBLEM_JSON};
 use super::hub::Hub;
 use super::store::Store;
@@ -48,6 +50,9 @@ pub struct AppState {
     pub limits: Arc<HttpLimits>,
     /// One permit per open SSE stream.
     pub sse_permits: Arc<Semaphore>,
+    /// One permit per answer built from a final state (VTU file, picture): they cost memory
+    /// in proportion to the particles.
+    pub heavy: Arc<Semaphore>,
     /// Becomes true when the server shuts down; open SSE streams end then.
     pub shutdown: watch::Receiver<bool>,
 }

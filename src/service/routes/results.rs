@@ -110,6 +110,7 @@ pub async fn shape_png(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
+    let _permit = s.heavy.acquire().await.map_err(ApiError::internal)?;
     let (record, case, state) = final_state(&s, &id, "picture").await?;
     let title = format!("{} — final shape", title(&record));
     let png =
@@ -118,21 +119,79 @@ pub async fn shape_png(
     Ok(file_response("image/png", None, Some(CACHE), png))
 }
 
-/// The final particle state as a VTK XML unstructured grid (ParaView opens it).
+/// The final particle state as a VTK XML unstructured grid (ParaView opens it), streamed: it
+/// is written in chunks as the client reads, by at most [`HEAVY_AT_ONCE`] downloads at a time
+/// (others wait), so memory stays about 40 bytes a particle per download written plus a few
+/// chunks, whatever the number of clients.
 pub async fn state_vtu(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let (record, case, state) = final_state(&s, &id, "VTU file").await?;
-    let title = title(&record);
-    let vtu = render(move || state::vtu(&title, &lattice_positions(&case), &state)).await?;
+    let permit = s
+        .heavy
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(ApiError::internal)?;
+    let (_, case, state) = final_state(&s, &id, "VTU file").await?;
+    let (tx, rx) = tokio::sync::mpsc::channel(2);
+    tokio::task::spawn_blocking(move || {
+        let _permit = permit;
+        let mut sink = ChunkSink {
+            tx,
+            buffer: Vec::with_capacity(CHUNK),
+        };
+        let written = state::write_vtu(&mut sink, &lattice_positions(&case), &state)
+            .and_then(|()| std::io::Write::flush(&mut sink));
+        if let Err(e) = written {
+            if e.kind() != std::io::ErrorKind::BrokenPipe {
+                tracing::error!(error = %e, "writing a VTU file failed");
+                // Ends the body with an error: the client sees a cut transfer, not a file.
+                let _ = sink.tx.blocking_send(Err(e));
+            }
+        }
+    });
+    let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
     let disposition = format!("attachment; filename=\"{id}.vtu\"");
     Ok(file_response(
         "application/xml",
         Some(disposition),
         Some(CACHE),
-        vtu,
+        body,
     ))
+}
+
+/// Downloads built from a final state at a time; the rest wait their turn.
+pub const HEAVY_AT_ONCE: usize = 4;
+
+/// Bytes sent to the client at a time.
+const CHUNK: usize = 256 * 1024;
+
+/// Sends what is written to a response body in [`CHUNK`]s; fails with `BrokenPipe` once the
+/// client has gone, which stops the writer.
+struct ChunkSink {
+    tx: tokio::sync::mpsc::Sender<std::io::Result<axum::body::Bytes>>,
+    buffer: Vec<u8>,
+}
+
+impl std::io::Write for ChunkSink {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.buffer.extend_from_slice(bytes);
+        if self.buffer.len() >= CHUNK {
+            self.flush()?;
+        }
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        if self.buffer.is_empty() {
+            return Ok(());
+        }
+        let chunk = std::mem::replace(&mut self.buffer, Vec::with_capacity(CHUNK));
+        self.tx
+            .blocking_send(Ok(chunk.into()))
+            .map_err(|_| std::io::ErrorKind::BrokenPipe.into())
+    }
 }
 
 /// The summary alone, as JSON, named for saving.

@@ -261,7 +261,7 @@ pub fn now_ms() -> i64 {
     d.as_millis() as i64
 }
 
-/// The columns every job query selects, in the order [`job_from_row`] reads them.
+/// The columns every job query selects ([`job_from_row`] reads them by name).
 const JOB_COLUMNS: &str = "j.seq, j.id, j.status, j.label, j.case_json, j.particles, j.sweep_id, \
      j.sweep_values_json, j.created_at, j.started_at, j.finished_at, j.attempts, \
      j.cancel_requested, j.progress_json, j.error, s.summary_json";
@@ -271,27 +271,28 @@ const JOB_FROM: &str = "jobs j LEFT JOIN summaries s ON s.job_id = j.id";
 
 fn job_from_row(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord> {
     use sqlx::Row;
-    let id: String = row.try_get(1)?;
-    let status: String = row.try_get(2)?;
-    let sweep_id: Option<String> = row.try_get(6)?;
+    // By name: a column added to or moved in JOB_COLUMNS cannot shift the others.
+    let id: String = row.try_get("id")?;
+    let status: String = row.try_get("status")?;
+    let sweep_id: Option<String> = row.try_get("sweep_id")?;
     Ok(JobRecord {
-        seq: row.try_get(0)?,
+        seq: row.try_get("seq")?,
         id: parse_uuid(&id)?,
         status: Status::parse(&status)
             .ok_or_else(|| StoreError::Corrupt(format!("job {id} has status {status:?}")))?,
-        label: row.try_get(3)?,
-        case_json: row.try_get(4)?,
-        particles: row.try_get(5)?,
+        label: row.try_get("label")?,
+        case_json: row.try_get("case_json")?,
+        particles: row.try_get("particles")?,
         sweep_id: sweep_id.as_deref().map(parse_uuid).transpose()?,
-        sweep_values_json: row.try_get(7)?,
-        created_at: row.try_get(8)?,
-        started_at: row.try_get(9)?,
-        finished_at: row.try_get(10)?,
-        attempts: row.try_get(11)?,
-        cancel_requested: row.try_get::<i64, _>(12)? != 0,
-        progress_json: row.try_get(13)?,
-        error: row.try_get(14)?,
-        summary_json: row.try_get(15)?,
+        sweep_values_json: row.try_get("sweep_values_json")?,
+        created_at: row.try_get("created_at")?,
+        started_at: row.try_get("started_at")?,
+        finished_at: row.try_get("finished_at")?,
+        attempts: row.try_get("attempts")?,
+        cancel_requested: row.try_get::<i64, _>("cancel_requested")? != 0,
+        progress_json: row.try_get("progress_json")?,
+        error: row.try_get("error")?,
+        summary_json: row.try_get("summary_json")?,
     })
 }
 
