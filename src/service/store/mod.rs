@@ -307,9 +307,7 @@ pub(crate) fn sample_summary() -> crate::solver::Summary {
     use crate::solver::{scene::lattice_positions, summarize, Case, Limits, RunCost, Snapshot};
     let case = Case::from_json(
         "{}",
-        &Limits {
-            max_particles: u64::MAX,
-        },
+        &Limits::default(),
     )
     .unwrap();
     let at_rest = lattice_positions(&case);
@@ -324,7 +322,7 @@ pub(crate) fn sample_summary() -> crate::solver::Summary {
         wall_time_s: 8.5,
         ..RunCost::default()
     };
-    let mut summary = summarize(&case, &[], &snapshot, cost);
+    let (mut summary, _) = summarize(&case, &[], &snapshot, cost);
     summary.mean_load_n = 1.5e4;
     summary.peak_load_n = 2.5e4;
     summary.energy_absorbed_mj = 3.25e5;
