@@ -305,11 +305,7 @@ fn parse_uuid(s: &str) -> Result<Uuid> {
 #[cfg(test)]
 pub(crate) fn sample_summary() -> crate::solver::Summary {
     use crate::solver::{scene::lattice_positions, summarize, Case, Limits, RunCost, Snapshot};
-    let case = Case::from_json(
-        "{}",
-        &Limits::default(),
-    )
-    .unwrap();
+    let case = Case::from_json("{}", &Limits::default()).unwrap();
     let at_rest = lattice_positions(&case);
     let snapshot = Snapshot {
         plastic_strain: vec![0.0; at_rest.len()],
