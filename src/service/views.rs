@@ -3,7 +3,7 @@
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status, SweepRecord};
-use crate::solver::RunOutput;
+use crate::solver::{RunOutput, Summary};
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use serde::Serialize;
 use serde_json::Value;
@@ -56,7 +56,7 @@ pub struct JobView {
     pub sweep_values: Option<Value>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub case: Option<Value>,
-    pub summary: Option<Value>,
+    pub summary: Option<Summary>,
     pub links: JobLinks,
 }
 
@@ -83,7 +83,7 @@ impl JobView {
             } else {
                 None
             },
-            summary: json(r.summary_json.as_deref()),
+            summary: r.summary.clone(),
             links: JobLinks {
                 events: format!("{base}/events"),
                 history: format!("{base}/history"),
@@ -141,36 +141,81 @@ pub fn non_finite(out: &RunOutput) -> Option<String> {
         ("energy_balance_error", s.energy_balance_error),
         ("wall_time_s", s.cost.wall_time_s),
     ];
-    key.iter()
-        .find(|(_, v)| !v.is_finite())
-        .map(|(n, _)| format!("a non-finite {n} in the summary"))
+    if let Some((n, _)) = key.iter().find(|(_, v)| !v.is_finite()) {
+        return Some(format!("a non-finite {n} in the summary"));
+    }
+    // Any other number: JSON writes a non-finite one as `null`, which would not read back as a
+    // summary, and the store refuses a summary that does not read.
+    let text = serde_json::to_string(s).ok()?;
+    let back = serde_path_to_error::deserialize::<_, Summary>(
+        &mut serde_json::Deserializer::from_str(&text),
+    )
+    .err()?;
+    Some(format!("a non-finite {} in the summary", back.path()))
 }
 
-/// Key summary numbers of a sweep table, in column order.
-pub const TABLE_NUMBERS: [&str; 9] = [
-    "mean_load_n",
-    "peak_load_n",
-    "energy_absorbed_mj",
-    "folds",
-    "mode",
-    "energy_balance_error",
-    "particles",
-    "steps",
-    "wall_time_s",
-];
+/// A number of the sweep table, read from the typed summary. Each column is named as its field
+/// in the summary's JSON (`mode` is the mode's `kind`, the cost's numbers are `cost.*`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TableNumber {
+    MeanLoad,
+    PeakLoad,
+    EnergyAbsorbed,
+    Folds,
+    Mode,
+    EnergyBalanceError,
+    Particles,
+    Steps,
+    WallTime,
+    ParticleStepsPerS,
+}
 
-fn table_number(summary: &Value, name: &str) -> Value {
-    let ptr = match name {
-        "mode" => "/mode/kind",
-        "particles" | "steps" | "wall_time_s" => {
-            return summary
-                .pointer(&format!("/cost/{name}"))
-                .cloned()
-                .unwrap_or(Value::Null)
+impl TableNumber {
+    /// Every number, in column order.
+    pub const ALL: [TableNumber; 10] = [
+        TableNumber::MeanLoad,
+        TableNumber::PeakLoad,
+        TableNumber::EnergyAbsorbed,
+        TableNumber::Folds,
+        TableNumber::Mode,
+        TableNumber::EnergyBalanceError,
+        TableNumber::Particles,
+        TableNumber::Steps,
+        TableNumber::WallTime,
+        TableNumber::ParticleStepsPerS,
+    ];
+
+    /// The column's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            TableNumber::MeanLoad => "mean_load_n",
+            TableNumber::PeakLoad => "peak_load_n",
+            TableNumber::EnergyAbsorbed => "energy_absorbed_mj",
+            TableNumber::Folds => "folds",
+            TableNumber::Mode => "mode",
+            TableNumber::EnergyBalanceError => "energy_balance_error",
+            TableNumber::Particles => "particles",
+            TableNumber::Steps => "steps",
+            TableNumber::WallTime => "wall_time_s",
+            TableNumber::ParticleStepsPerS => "particle_steps_per_s",
         }
-        _ => return summary.get(name).cloned().unwrap_or(Value::Null),
-    };
-    summary.pointer(ptr).cloned().unwrap_or(Value::Null)
+    }
+
+    /// The column's value for a run with this summary.
+    pub fn of(self, s: &Summary) -> Value {
+        match self {
+            TableNumber::MeanLoad => s.mean_load_n.into(),
+            TableNumber::PeakLoad => s.peak_load_n.into(),
+            TableNumber::EnergyAbsorbed => s.energy_absorbed_mj.into(),
+            TableNumber::Folds => s.folds.into(),
+            TableNumber::Mode => s.mode.kind().into(),
+            TableNumber::EnergyBalanceError => s.energy_balance_error.into(),
+            TableNumber::Particles => s.cost.particles.into(),
+            TableNumber::Steps => s.cost.steps.into(),
+            TableNumber::WallTime => s.cost.wall_time_s.into(),
+            TableNumber::ParticleStepsPerS => s.cost.particle_steps_per_s.into(),
+        }
+    }
 }
 
 /// A sweep as the API shows it: its parameters, and one table row per job.
@@ -253,17 +298,16 @@ impl Convergence {
             .filter(|j| j.status == Status::Succeeded)
             .filter_map(|j| {
                 let values = json(j.sweep_values_json.as_deref())?;
-                let summary = json(j.summary_json.as_deref())?;
-                let num = |p: &str| summary.pointer(p).and_then(Value::as_f64);
+                let s = j.summary.as_ref()?;
                 Some(RunPoint {
                     group: group_key(fields, &values),
                     n: values.get(RESOLUTION_FIELD)?.as_u64()? as u32,
-                    particles: num("/cost/particles")? as u64,
-                    steps: num("/cost/steps")? as u64,
-                    wall_time_s: num("/cost/wall_time_s")?,
-                    mean_load_n: num("/mean_load_n")?,
-                    peak_load_n: num("/peak_load_n")?,
-                    reference_n: num("/references/primary_n")?,
+                    particles: s.cost.particles,
+                    steps: s.cost.steps,
+                    wall_time_s: s.cost.wall_time_s,
+                    mean_load_n: s.mean_load_n,
+                    peak_load_n: s.peak_load_n,
+                    reference_n: s.references.primary_n,
                 })
             })
             .collect();
@@ -329,7 +373,7 @@ impl SweepView {
         let mut columns = vec!["job_id".to_string()];
         columns.extend(fields.iter().cloned());
         columns.push("status".into());
-        columns.extend(TABLE_NUMBERS.iter().map(|s| s.to_string()));
+        columns.extend(TableNumber::ALL.iter().map(|n| n.name().to_string()));
         let mut counts = serde_json::Map::new();
         for status in Status::ALL {
             let n = jobs.iter().filter(|j| j.status == status).count();
@@ -339,7 +383,6 @@ impl SweepView {
             .iter()
             .any(|f| f == RESOLUTION_FIELD)
             .then(|| Convergence::of(&fields, jobs));
-        columns.push("particle_steps_per_s".into());
         if convergence.is_some() {
             columns.extend(ERROR_COLUMNS.iter().map(|s| s.to_string()));
         }
@@ -347,23 +390,16 @@ impl SweepView {
             .iter()
             .map(|j| {
                 let values = json(j.sweep_values_json.as_deref()).unwrap_or(Value::Null);
-                let summary = json(j.summary_json.as_deref()).unwrap_or(Value::Null);
                 let mut row = serde_json::Map::new();
                 row.insert("job_id".into(), j.id.to_string().into());
                 for f in &fields {
                     row.insert(f.clone(), values.get(f).cloned().unwrap_or(Value::Null));
                 }
                 row.insert("status".into(), j.status.as_str().into());
-                for n in TABLE_NUMBERS {
-                    row.insert(n.into(), table_number(&summary, n));
+                for n in TableNumber::ALL {
+                    let v = j.summary.as_ref().map_or(Value::Null, |s| n.of(s));
+                    row.insert(n.name().into(), v);
                 }
-                row.insert(
-                    "particle_steps_per_s".into(),
-                    summary
-                        .pointer("/cost/particle_steps_per_s")
-                        .cloned()
-                        .unwrap_or(Value::Null),
-                );
                 if let Some(c) = &convergence {
                     c.fill(j, &mut row);
                 }
@@ -407,5 +443,130 @@ mod tests {
     fn times_are_rfc3339_utc() {
         assert_eq!(rfc3339(0), "1970-01-01T00:00:00Z");
         assert_eq!(rfc3339(1_500), "1970-01-01T00:00:01.5Z");
+    }
+
+    /// Where a sweep-table column's name is in the summary's JSON: a top-level number, a number
+    /// of `cost`, or an object's `kind` (the mode).
+    fn json_field<'a>(summary: &'a Value, name: &str) -> Option<&'a Value> {
+        match summary.get(name) {
+            Some(Value::Object(o)) => o.get("kind"),
+            Some(v) => Some(v),
+            None => summary.get("cost")?.get(name),
+        }
+    }
+
+    #[test]
+    fn every_sweep_table_number_is_the_summary_field_of_its_name() {
+        // Distinct values everywhere, so that a column reading the wrong field shows.
+        let mut s = crate::service::store::sample_summary();
+        s.cost.particle_steps_per_s = 8.25e6;
+        s.cost.threads = 7;
+        let json = serde_json::to_value(&s).unwrap();
+        let mut names = std::collections::HashSet::new();
+        for n in TableNumber::ALL {
+            assert!(names.insert(n.name()), "{} twice", n.name());
+            let field = json_field(&json, n.name())
+                .unwrap_or_else(|| panic!("the summary has no field {}", n.name()));
+            assert_eq!(&n.of(&s), field, "{}", n.name());
+        }
+    }
+
+    #[test]
+    fn the_sweep_table_has_every_number_and_nulls_before_the_summary() {
+        let mut done = crate::service::store::sample_summary();
+        done.cost.particle_steps_per_s = 8.25e6;
+        let record = |status, summary| JobRecord {
+            seq: 1,
+            id: Uuid::new_v4(),
+            status,
+            label: None,
+            case_json: "{}".into(),
+            particles: 1,
+            sweep_id: None,
+            sweep_values_json: Some(r#"{"tube.thickness_mm": 1.5}"#.into()),
+            created_at: 0,
+            started_at: None,
+            finished_at: None,
+            attempts: 0,
+            cancel_requested: false,
+            progress_json: None,
+            error: None,
+            summary,
+        };
+        let sweep = SweepRecord {
+            id: Uuid::new_v4(),
+            label: None,
+            created_at: 0,
+            parameters_json: r#"[["tube.thickness_mm", [1.5]]]"#.into(),
+            base_json: "{}".into(),
+        };
+        let jobs = [
+            record(Status::Succeeded, Some(done.clone())),
+            record(Status::Queued, None),
+        ];
+        let view = SweepView::new(&sweep, &jobs);
+        for n in TableNumber::ALL {
+            assert!(view.columns.iter().any(|c| c == n.name()), "{}", n.name());
+            assert_eq!(view.rows[0][n.name()], n.of(&done), "{}", n.name());
+            assert_eq!(view.rows[1][n.name()], Value::Null, "{}", n.name());
+        }
+        assert_eq!(view.rows[0]["mean_load_n"], done.mean_load_n);
+        assert_eq!(view.rows[0]["mode"], done.mode.kind());
+        assert_eq!(view.rows[0]["particle_steps_per_s"], 8.25e6);
+    }
+
+    /// The keys of a JSON object and, one level down, of its objects (`cost.steps`).
+    fn keys(v: &Value) -> std::collections::BTreeSet<String> {
+        let mut out = std::collections::BTreeSet::new();
+        for (k, inner) in v.as_object().unwrap() {
+            out.insert(k.clone());
+            if let Some(o) = inner.as_object() {
+                out.extend(o.keys().map(|i| format!("{k}.{i}")));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_contract_describes_the_summary_the_views_serialize() {
+        // The views carry the typed summary; its JSON is what `api/openapi.yaml` documents.
+        // Every documented field must exist (a renamed field fails here), and every field the
+        // summary has is documented (a new one too). `references` is documented as an object
+        // only (its loads depend on the loading mode), `mode.lobes` only for diamonds.
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
+        let doc: Value = serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let schema = &doc["components"]["schemas"]["Summary"]["properties"];
+        let mut documented = std::collections::BTreeSet::new();
+        for (k, inner) in schema.as_object().unwrap() {
+            documented.insert(k.clone());
+            if let Some(o) = inner.get("properties").and_then(Value::as_object) {
+                documented.extend(o.keys().map(|i| format!("{k}.{i}")));
+            }
+        }
+        let mut s = crate::service::store::sample_summary();
+        s.mode = crate::solver::CollapseMode::Diamond { lobes: 3 };
+        let view = serde_json::to_value(&s).unwrap();
+        let served: std::collections::BTreeSet<String> = keys(&view)
+            .into_iter()
+            .filter(|k| !k.starts_with("references."))
+            .collect();
+        assert_eq!(documented, served);
+    }
+
+    #[test]
+    fn a_non_finite_number_anywhere_in_the_summary_fails_the_run() {
+        let mut summary = crate::service::store::sample_summary();
+        let out = |summary: Summary| RunOutput {
+            history: vec![],
+            summary,
+            mode_detail: Default::default(),
+            snapshot: Default::default(),
+        };
+        assert_eq!(non_finite(&out(summary.clone())), None);
+        // Not one of the key numbers: JSON would store it as null, and the summary would not
+        // read back (regression: the store reads summaries typed now).
+        summary.kinetic_to_internal = f64::NAN;
+        let why = non_finite(&out(summary)).expect("a non-finite number is caught");
+        assert_eq!(why, "a non-finite kinetic_to_internal in the summary");
     }
 }

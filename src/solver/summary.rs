@@ -23,6 +23,19 @@ pub enum CollapseMode {
     Flattening,
 }
 
+impl CollapseMode {
+    /// The mode's name as its JSON `kind` spells it (`ring`, `diamond`, …): the stored
+    /// `mode` column and the sweep table's `mode`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            CollapseMode::Ring => "ring",
+            CollapseMode::Diamond { .. } => "diamond",
+            CollapseMode::GlobalBuckling => "global_buckling",
+            CollapseMode::Flattening => "flattening",
+        }
+    }
+}
+
 /// What the run cost.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct RunCost {
@@ -249,6 +262,19 @@ pub fn kinetic_to_internal(history: &[HistoryRow]) -> f64 {
 mod tests {
     use super::*;
     use crate::solver::Limits;
+
+    #[test]
+    fn a_mode_s_kind_is_its_json_tag() {
+        for mode in [
+            CollapseMode::Ring,
+            CollapseMode::Diamond { lobes: 3 },
+            CollapseMode::GlobalBuckling,
+            CollapseMode::Flattening,
+        ] {
+            let json = serde_json::to_value(mode).unwrap();
+            assert_eq!(json["kind"], mode.kind(), "{mode:?}");
+        }
+    }
 
     fn row(u: f64, p: f64) -> HistoryRow {
         HistoryRow {

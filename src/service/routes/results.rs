@@ -200,11 +200,12 @@ pub async fn summary(
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
     let record = succeeded(&s, &id, "its summary is stored when it succeeds").await?;
-    let text = record.summary_json.clone().ok_or_else(|| {
+    let summary = record.summary.as_ref().ok_or_else(|| {
         ApiError::internal(std::io::Error::other(format!(
             "succeeded job {id} has no summary"
         )))
     })?;
+    let text = serde_json::to_string(summary).map_err(ApiError::internal)?;
     let disposition = format!("inline; filename=\"{id}-summary.json\"");
     Ok(file_response(
         "application/json",

@@ -12,6 +12,7 @@ pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use sweeps::{NewSweep, SweepRecord, SweepSubmitted};
 pub use worker::{Claimed, Reaped, Succeeded};
 
+use crate::solver::Summary;
 use serde::{Deserialize, Serialize};
 use sqlx::sqlite::{
     SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous,
@@ -129,7 +130,9 @@ pub struct JobRecord {
     pub cancel_requested: bool,
     pub progress_json: Option<String>,
     pub error: Option<String>,
-    pub summary_json: Option<String>,
+    /// The run's summary, once it succeeded: read back typed, so that a field the solver
+    /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
+    pub summary: Option<Summary>,
 }
 
 /// The store. Cheap to clone (a pool handle).
@@ -292,8 +295,22 @@ fn job_from_row(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord> {
         cancel_requested: row.try_get::<i64, _>("cancel_requested")? != 0,
         progress_json: row.try_get("progress_json")?,
         error: row.try_get("error")?,
-        summary_json: row.try_get("summary_json")?,
+        summary: read_summary(&id, row.try_get("summary_json")?)?,
     })
+}
+
+/// A stored summary's JSON, typed; a summary that does not read is corrupt, never zeros.
+fn read_summary(job: &str, text: Option<String>) -> Result<Option<Summary>> {
+    text.map(|t| {
+        serde_path_to_error::deserialize(&mut serde_json::Deserializer::from_str(&t)).map_err(|e| {
+            StoreError::Corrupt(format!(
+                "the summary of job {job} does not read at {}: {}",
+                e.path(),
+                e.inner()
+            ))
+        })
+    })
+    .transpose()
 }
 
 fn parse_uuid(s: &str) -> Result<Uuid> {

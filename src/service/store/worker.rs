@@ -117,7 +117,7 @@ impl Store {
             .map_err(|e| super::StoreError::Corrupt(format!("summary: {e}")))?;
         // The queryable columns come from the typed summary: a renamed field fails to compile
         // here instead of storing zeros.
-        let mode = mode_name(&summary.mode);
+        let mode = summary.mode.kind();
         let mut tx = self.write().await?;
         let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
             return Ok(None);
@@ -305,14 +305,6 @@ impl Store {
     }
 }
 
-/// The collapse mode's name as the summary's JSON spells it (`ring`, `diamond`, …).
-fn mode_name(mode: &crate::solver::CollapseMode) -> String {
-    serde_json::to_value(mode)
-        .ok()
-        .and_then(|v| v.get("kind")?.as_str().map(String::from))
-        .unwrap_or_default()
-}
-
 /// Whether `lease` still holds the running job `id`: `Some(cancel_requested)` if it does.
 async fn holds(
     tx: &mut sqlx::Transaction<'static, Sqlite>,
@@ -357,7 +349,7 @@ fn out_of_attempts(attempts: i64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::service::store::NewJob;
+    use crate::service::store::{NewJob, StoreError};
 
     async fn store() -> (tempfile::TempDir, Store) {
         let dir = tempfile::tempdir().unwrap();
@@ -455,7 +447,7 @@ mod tests {
         assert_eq!(stored.unwrap(), Some(Status::Cancelled));
         let rec = store.job(j.id).await.unwrap().unwrap();
         assert_eq!(rec.status, Status::Cancelled);
-        assert!(rec.summary_json.is_none(), "nothing of the run is kept");
+        assert!(rec.summary.is_none(), "nothing of the run is kept");
         // A requeue (shutdown) of a job whose cancel was asked cancels it too.
         let k = job();
         store.submit(k.clone(), 10).await.unwrap();
@@ -497,7 +489,7 @@ mod tests {
                 s.energy_absorbed_mj,
                 s.crush_distance_mm,
                 s.folds as i64,
-                mode_name(&s.mode),
+                s.mode.kind().to_string(),
                 s.energy_balance_error,
                 s.cost.particles as i64,
                 s.cost.steps as i64,
@@ -508,10 +500,48 @@ mod tests {
         // And the JSON kept beside them reads back as a summary with the same numbers (the
         // references may differ in the last bit: serde_json's float parsing is not exact).
         let rec = store.job(j.id).await.unwrap().unwrap();
-        let back: Summary = serde_json::from_str(&rec.summary_json.unwrap()).unwrap();
+        let back = rec.summary.unwrap();
         assert_eq!(
             (back.mean_load_n, back.folds, back.mode, back.cost),
             (s.mean_load_n, s.folds, s.mode, s.cost)
+        );
+    }
+
+    #[tokio::test]
+    async fn a_stored_summary_that_does_not_read_is_corrupt_not_zeros() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        let summary = crate::service::store::sample_summary();
+        let result = Succeeded {
+            history: &[],
+            summary: &summary,
+            final_state: None,
+            progress_json: None,
+        };
+        store
+            .finish_succeeded(j.id, claim.lease, result)
+            .await
+            .unwrap();
+        // A summary written under another name of a field (as a rename in the solver would
+        // leave the older rows): reading it must say so, not show zeros.
+        let mut json = serde_json::to_value(&summary).unwrap();
+        let o = json.as_object_mut().unwrap();
+        let mean = o.remove("mean_load_n").unwrap();
+        o.insert("mean_load".into(), mean);
+        sqlx::query("UPDATE summaries SET summary_json = ? WHERE job_id = ?")
+            .bind(json.to_string())
+            .bind(j.id.to_string())
+            .execute(&store.pool)
+            .await
+            .unwrap();
+        let err = store.job(j.id).await.unwrap_err();
+        assert!(matches!(err, StoreError::Corrupt(_)), "{err:?}");
+        let text = err.to_string();
+        assert!(
+            text.contains("mean_load_n") && text.contains(&j.id.to_string()),
+            "{text}"
         );
     }
 
