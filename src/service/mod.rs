@@ -13,7 +13,7 @@ mod views;
 mod worker;
 
 pub use error::ApiError;
-pub use routes::{app, routes, AppState, HttpLimits};
+pub use routes::{app, routes, AppState, HttpLimits, HEAVY_AT_ONCE};
 pub use worker::{WorkerConfig, Workers};
 
 use anyhow::Context;

@@ -179,54 +179,85 @@ impl Scene {
 /// of [`crate::solver::Snapshot`]).
 pub fn lattice_positions(case: &Case) -> Vec<[Real; 3]> {
     let spec = case.spec();
-    let lattice = tube_lattice(
+    // Only the positions: the full particle set is hundreds of bytes a particle, and this is
+    // what every state download rebuilds (tests/api_download.rs).
+    let lattice = Lattice::new(
         spec.tube.thickness_mm,
         spec.tube.mean_diameter_mm,
         spec.tube.length_mm,
         spec.discretization.particles_through_thickness,
-        1.0,
-        spec.loading.mode,
     );
-    lattice.x.iter().map(|x| [x.x, x.y, x.z]).collect()
+    let mut x = Vec::with_capacity(lattice.len());
+    x.extend(
+        lattice
+            .points(spec.loading.mode)
+            .map(|(x, _)| [x.x, x.y, x.z]),
+    );
+    x
 }
 
-/// Particles of a tube wall: `n` layers through the thickness at spacing h = t/n; each layer at
-/// mid-radius r holds round(2πr/h) particles around and round(l/h) along. Each particle's volume
-/// is its exact annular sector, so the volumes add up to π d t l.
-pub fn tube_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, mode: LoadingMode) -> Particles {
-    let h = t / n as Real;
-    let inner = d / 2.0 - t / 2.0;
-    let along = layers_along(l, h) as usize;
-    let dz = l / along as Real;
-    let rings: Vec<(Real, usize, Real)> = (0..n)
-        .map(|j| {
-            let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-            let r = 0.5 * (r0 + r1);
-            let count = around(r, h) as usize;
-            (
-                r,
-                count,
-                0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
-            )
+/// The particle lattice of a tube wall: `n` layers through the thickness at spacing h = t/n;
+/// each layer at mid-radius r holds round(2πr/h) particles around and round(l/h) along. Each
+/// particle's volume is its exact annular sector, so the volumes add up to π d t l.
+struct Lattice {
+    /// Per layer: mid-radius (mm), particles around, volume of each (mm³).
+    rings: Vec<(Real, usize, Real)>,
+    along: usize,
+    dz: Real,
+}
+
+impl Lattice {
+    fn new(t: Real, d: Real, l: Real, n: u32) -> Lattice {
+        let h = t / n as Real;
+        let inner = d / 2.0 - t / 2.0;
+        let along = layers_along(l, h) as usize;
+        let dz = l / along as Real;
+        let rings = (0..n)
+            .map(|j| {
+                let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
+                let r = 0.5 * (r0 + r1);
+                let count = around(r, h) as usize;
+                (
+                    r,
+                    count,
+                    0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
+                )
+            })
+            .collect();
+        Lattice { rings, along, dz }
+    }
+
+    fn len(&self) -> usize {
+        self.rings.iter().map(|r| r.1).sum::<usize>() * self.along
+    }
+
+    /// Each particle's centre and volume, axial position outermost, then angle, then radius:
+    /// neighbours in space stay near in memory.
+    fn points(&self, mode: LoadingMode) -> impl Iterator<Item = (Vector3<Real>, Real)> + '_ {
+        (0..self.along).flat_map(move |k| {
+            let s = (k as Real + 0.5) * self.dz;
+            self.rings.iter().flat_map(move |&(r, count, vol)| {
+                (0..count).map(move |i| {
+                    let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
+                    let (c, sn) = (r * th.cos(), r * th.sin());
+                    let x = match mode {
+                        LoadingMode::Axial => Vector3::new(c, sn, s),
+                        LoadingMode::Lateral => Vector3::new(s, c, sn),
+                    };
+                    (x, vol)
+                })
+            })
         })
-        .collect();
+    }
+}
+
+/// Particles of a tube wall laid out as [`Lattice`] says, of density `rho`.
+pub fn tube_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, mode: LoadingMode) -> Particles {
+    let lattice = Lattice::new(t, d, l, n);
     let mut p = Particles::default();
-    let total: usize = rings.iter().map(|r| r.1).sum::<usize>() * along;
-    p.x.reserve_exact(total);
-    // Axial position outermost, then angle, then radius: neighbours in space stay near in memory.
-    for k in 0..along {
-        let s = (k as Real + 0.5) * dz;
-        for &(r, count, vol) in &rings {
-            for i in 0..count {
-                let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                let (c, sn) = (r * th.cos(), r * th.sin());
-                let x = match mode {
-                    LoadingMode::Axial => Vector3::new(c, sn, s),
-                    LoadingMode::Lateral => Vector3::new(s, c, sn),
-                };
-                p.push(x, rho * vol, vol);
-            }
-        }
+    p.x.reserve_exact(lattice.len());
+    for (x, vol) in lattice.points(mode) {
+        p.push(x, rho * vol, vol);
     }
     p
 }
