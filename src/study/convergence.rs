@@ -25,6 +25,22 @@ pub struct RunPoint {
     pub reference_n: f64,
 }
 
+impl RunPoint {
+    /// The point of a finished run with `n` particles through the wall, in `group`.
+    pub fn of(group: String, n: u32, s: &crate::solver::Summary) -> RunPoint {
+        RunPoint {
+            group,
+            n,
+            particles: s.cost.particles,
+            steps: s.cost.steps,
+            wall_time_s: s.cost.wall_time_s,
+            mean_load_n: s.mean_load_n,
+            peak_load_n: s.peak_load_n,
+            reference_n: s.references.primary_n,
+        }
+    }
+}
+
 /// A Richardson extrapolation f(h) ≈ f* + C·hᵖ through the three finest runs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Extrapolation {

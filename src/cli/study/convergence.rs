@@ -53,16 +53,7 @@ pub fn run(args: ConvergenceArgs) -> anyhow::Result<()> {
             match run_case(&name, &case, threads)? {
                 Ok(done) => {
                     let s = &done.summary;
-                    points.push(RunPoint {
-                        group: shape.clone(),
-                        n,
-                        particles: s.cost.particles,
-                        steps: s.cost.steps,
-                        wall_time_s: s.cost.wall_time_s,
-                        mean_load_n: s.mean_load_n,
-                        peak_load_n: s.peak_load_n,
-                        reference_n: s.references.primary_n,
-                    });
+                    points.push(RunPoint::of(shape.clone(), n, s));
                     extra.push((shape.clone(), n, s.folds, mode_name(&s.mode)));
                     curves.push(done.load_curve(name.clone()));
                 }

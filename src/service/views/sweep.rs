@@ -154,16 +154,11 @@ impl Convergence {
             .filter_map(|j| {
                 let values = json(j.sweep_values_json.as_deref())?;
                 let s = j.summary.as_ref()?;
-                Some(RunPoint {
-                    group: group_key(fields, &values),
-                    n: values.get(RESOLUTION_FIELD)?.as_u64()? as u32,
-                    particles: s.cost.particles,
-                    steps: s.cost.steps,
-                    wall_time_s: s.cost.wall_time_s,
-                    mean_load_n: s.mean_load_n,
-                    peak_load_n: s.peak_load_n,
-                    reference_n: s.references.primary_n,
-                })
+                Some(RunPoint::of(
+                    group_key(fields, &values),
+                    values.get(RESOLUTION_FIELD)?.as_u64()? as u32,
+                    s,
+                ))
             })
             .collect();
         Convergence {
