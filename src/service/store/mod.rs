@@ -204,7 +204,9 @@ impl Store {
         };
         match tokio::time::timeout(HEALTH_TIMEOUT, probe).await {
             Ok(result) => result,
-            Err(_) => Err(StoreError::Db(sqlx::Error::PoolTimedOut)),
+            // The probe was dropped, perhaps inside its transaction: through `From`, so that
+            // the connection it held counts as one a failure may have broken.
+            Err(_) => Err(sqlx::Error::PoolTimedOut.into()),
         }
     }
 
