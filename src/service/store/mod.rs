@@ -227,20 +227,26 @@ impl Store {
     }
 }
 
-/// When the database last failed in a way that can leave a connection unusable, as ms since
+/// When the database last failed in a way that can leave a connection unusable, as ns since
 /// [`trouble_clock`]'s start; 0: never. Process-wide: a failure of one store only makes
 /// another recycle its connections, which costs a reconnect.
-static TROUBLE_AT_MS: AtomicU64 = AtomicU64::new(0);
+static TROUBLE_AT_NS: AtomicU64 = AtomicU64::new(0);
 
 fn trouble_clock() -> u64 {
     static START: OnceLock<Instant> = OnceLock::new();
-    START.get_or_init(Instant::now).elapsed().as_millis() as u64 + 1
+    START.get_or_init(Instant::now).elapsed().as_nanos() as u64 + 1
 }
+
+/// Margin for the two clock reads behind a connection's creation time (sqlx's when it measures
+/// the age, ours after). With whole milliseconds and no margin, a connection opened in the same
+/// millisecond as the failure that broke it could pass for a newer one (seen: the first submit
+/// after a full disk was freed failed with "non-zero transaction depth", once in six runs).
+const CLOCK_SLACK_NS: u64 = 1_000_000;
 
 impl From<sqlx::Error> for StoreError {
     fn from(e: sqlx::Error) -> StoreError {
         if transient(&e) {
-            TROUBLE_AT_MS.store(trouble_clock(), Ordering::Relaxed);
+            TROUBLE_AT_NS.store(trouble_clock(), Ordering::Relaxed);
         }
         StoreError::Db(e)
     }
@@ -253,9 +259,9 @@ impl From<sqlx::Error> for StoreError {
 /// read-only while they could not be written, which stay so for the connection's life. A
 /// fresh connection has neither, so the first request after the disk heals works.
 fn fresh_enough(age: Duration) -> bool {
-    let trouble = TROUBLE_AT_MS.load(Ordering::Relaxed);
-    let created = trouble_clock().saturating_sub(age.as_millis() as u64);
-    trouble == 0 || created > trouble
+    let trouble = TROUBLE_AT_NS.load(Ordering::Relaxed);
+    let created = trouble_clock().saturating_sub(age.as_nanos() as u64);
+    trouble == 0 || created > trouble + CLOCK_SLACK_NS
 }
 
 /// Unix time now, ms.
