@@ -2,7 +2,7 @@
 //! the deformed tube as PNG and the final particle state as a VTU file. 404 for an unknown job,
 //! 409 for one that has not succeeded.
 
-use super::{csv_response, file_response, parse_id, wants_csv, AppState, FormatParams};
+use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
 use crate::plot::{self, Series};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
@@ -10,8 +10,8 @@ use crate::service::store::{JobRecord, Status};
 use crate::solver::{scene::lattice_positions, Case, HistoryRow, Limits};
 use axum::extract::{Path, Query, State};
 use axum::http::HeaderMap;
-use axum::response::{IntoResponse, Response};
-use axum::Json;
+use axum::response::Response;
+use futures::StreamExt;
 
 /// A succeeded job never changes again, so its pictures and files may be cached.
 const CACHE: &str = "private, max-age=86400";
@@ -225,8 +225,16 @@ pub async fn history(
 ) -> Result<Response, ApiError> {
     let csv = wants_csv(&headers, q.format.as_deref())?;
     let record = succeeded(&s, &id, "its history is stored when it succeeds").await?;
+    // Up to 100 000 rows (about 20 MB of text): read and written by at most HEAVY_AT_ONCE
+    // requests at a time, each holding its permit until the last chunk is sent.
+    let permit = s
+        .heavy
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(ApiError::internal)?;
     let rows = s.store.history(record.id).await?;
-    if csv {
+    let (content_type, disposition, bytes) = if csv {
         let write = || -> Result<Vec<u8>, csv::Error> {
             let mut w = csv::Writer::from_writer(Vec::new());
             w.write_record(HistoryRow::COLUMNS)?;
@@ -236,13 +244,37 @@ pub async fn history(
             w.into_inner().map_err(|e| e.into_error().into())
         };
         let bytes = write().map_err(ApiError::internal)?;
-        let text = String::from_utf8(bytes).map_err(ApiError::internal)?;
-        return Ok(csv_response(text, &format!("{id}-history.csv")));
-    }
-    Ok(Json(serde_json::json!({
-        "job_id": record.id,
-        "columns": HistoryRow::COLUMNS,
-        "rows": rows,
-    }))
-    .into_response())
+        let disposition = format!("inline; filename=\"{id}-history.csv\"");
+        ("text/csv; charset=utf-8", Some(disposition), bytes)
+    } else {
+        let document = serde_json::json!({
+            "job_id": record.id,
+            "columns": HistoryRow::COLUMNS,
+            "rows": rows,
+        });
+        let bytes = serde_json::to_vec(&document).map_err(ApiError::internal)?;
+        ("application/json", None, bytes)
+    };
+    drop(rows);
+    Ok(file_response(
+        content_type,
+        disposition,
+        None,
+        chunked(bytes, permit),
+    ))
+}
+
+/// `bytes` as a body sent in [`CHUNK`]s, holding `permit` until the body is dropped (sent whole
+/// or abandoned by the client).
+fn chunked(bytes: Vec<u8>, permit: tokio::sync::OwnedSemaphorePermit) -> axum::body::Body {
+    let bytes = axum::body::Bytes::from(bytes);
+    let chunks: Vec<axum::body::Bytes> = (0..bytes.len())
+        .step_by(CHUNK)
+        .map(|i| bytes.slice(i..(i + CHUNK).min(bytes.len())))
+        .collect();
+    let stream = futures::stream::iter(chunks).map(move |chunk| {
+        let _held = &permit;
+        Ok::<_, std::convert::Infallible>(chunk)
+    });
+    axum::body::Body::from_stream(stream)
 }
