@@ -110,7 +110,7 @@ pub async fn shape_png(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let _permit = s.heavy.acquire().await.map_err(ApiError::internal)?;
+    let _permit = heavy_permit(&s).await?;
     let (record, case, state) = final_state(&s, &id, "picture").await?;
     let title = format!("{} — final shape", title(&record));
     let png =
@@ -127,12 +127,7 @@ pub async fn state_vtu(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let permit = s
-        .heavy
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(ApiError::internal)?;
+    let permit = heavy_permit(&s).await?;
     let (_, case, state) = final_state(&s, &id, "VTU file").await?;
     let (tx, rx) = tokio::sync::mpsc::channel(2);
     tokio::task::spawn_blocking(move || {
@@ -159,6 +154,15 @@ pub async fn state_vtu(
         Some(CACHE),
         body,
     ))
+}
+
+/// A turn at building a large answer (held until it is sent, where the body is streamed).
+async fn heavy_permit(s: &AppState) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+    s.heavy
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(ApiError::internal)
 }
 
 /// Downloads built from a final state at a time; the rest wait their turn. Two: each build
@@ -227,12 +231,7 @@ pub async fn history(
     let record = succeeded(&s, &id, "its history is stored when it succeeds").await?;
     // Up to 100 000 rows (about 20 MB of text): read and written by at most HEAVY_AT_ONCE
     // requests at a time, each holding its permit until the last chunk is sent.
-    let permit = s
-        .heavy
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(ApiError::internal)?;
+    let permit = heavy_permit(&s).await?;
     let rows = s.store.history(record.id).await?;
     let (content_type, disposition, bytes) = if csv {
         let write = || -> Result<Vec<u8>, csv::Error> {
