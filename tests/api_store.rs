@@ -128,7 +128,7 @@ async fn a_read_only_database_answers_503_then_heals_without_a_restart() {
         .try_init();
     // On the target directory's filesystem: /tmp may be a tmpfs, which has no immutable flag.
     let dir = tempfile::tempdir_in(env!("CARGO_TARGET_TMPDIR")).unwrap();
-    let db = database_url(dir.path());
+    let db = sqlite_url(dir.path());
     let flags = [
         "--port",
         "0",
@@ -218,7 +218,7 @@ async fn a_full_disk_answers_503_then_heals_when_space_is_freed() {
         Ok(fs) => fs,
         Err(why) => return skip(TEST, &format!("cannot mount a small tmpfs: {why}")),
     };
-    let db = database_url(fs.path());
+    let db = sqlite_url(fs.path());
     let flags = [
         "--port",
         "0",
@@ -276,7 +276,8 @@ async fn a_full_disk_answers_503_then_heals_when_space_is_freed() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_database_file_deleted_while_serving_is_noticed_logged_and_answered_with_503() {
-    let (dir, db) = temp_db();
+    let dir = tempfile::tempdir().unwrap();
+    let db = sqlite_url(dir.path());
     let log_path = dir.path().join("server.log");
     let log = std::fs::File::create(&log_path).unwrap();
     let mut process = Command::new(env!("CARGO_BIN_EXE_crush"))

@@ -3,14 +3,19 @@
 //! also keeps the current claim's events so far (at most [`REPLAY_CAP`], evenly thinned), for
 //! listeners that join mid-run.
 //!
+//! With a PostgreSQL store, every event also goes to a relay (see [`Hub::relay_to`]) that tells
+//! the other nodes, and events relayed from them are delivered here ([`Hub::deliver`]) as if a
+//! local run had sent them: same ids, same replay.
+//!
 //! Event ids increase over a job's whole life, across restarts: an event of claim `a` has id
 //! `a · SPAN + k` with `k` counting within the claim, and a job's final event has the largest id
 //! its last claim can have. A client resuming with `Last-Event-ID` is sent only newer events.
 
+use crate::service::store::signals::WireEvent;
 use crate::solver::{Observer, Progress};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
-use tokio::sync::broadcast;
+use std::sync::{Arc, Mutex, OnceLock};
+use tokio::sync::{broadcast, mpsc};
 use uuid::Uuid;
 
 /// Ids available to one claim of a job.
@@ -47,10 +52,28 @@ pub struct Event {
     pub data: String,
 }
 
+/// Every event name the hub sends.
+pub const EVENT_NAMES: [&str; 5] = ["status", "progress", "done", "failed", "cancelled"];
+
 impl Event {
     /// `done`, `failed` or `cancelled`: the stream ends after it.
     pub fn is_final(&self) -> bool {
         matches!(self.name, "done" | "failed" | "cancelled")
+    }
+
+    /// As it crosses to other nodes.
+    pub fn to_wire(&self) -> WireEvent {
+        WireEvent(self.id, self.name.to_string(), self.data.clone())
+    }
+
+    /// An event another node relayed; `None` for a name this hub does not send.
+    pub fn from_wire(w: WireEvent) -> Option<Event> {
+        let name = EVENT_NAMES.into_iter().find(|n| *n == w.1)?;
+        Some(Event {
+            id: w.0,
+            name,
+            data: w.2,
+        })
     }
 }
 
@@ -75,6 +98,15 @@ struct Replay {
 impl Replay {
     fn push(&mut self, event: Event) {
         let seq = |e: &Event| e.id % SPAN;
+        // A newer claim's event (relayed from the node that runs it) starts a new replay, as a
+        // local claim's publisher does.
+        if self
+            .newest
+            .as_ref()
+            .is_some_and(|n| event.id / SPAN > n.id / SPAN)
+        {
+            *self = Replay::default();
+        }
         self.stride = self.stride.max(1);
         if self.kept.len() >= REPLAY_CAP {
             self.stride *= 2;
@@ -103,6 +135,8 @@ impl Replay {
 pub struct Hub {
     channels: Mutex<HashMap<Uuid, Arc<Channel>>>,
     capacity: usize,
+    /// Where events of runs on this node go for the other nodes (PostgreSQL only).
+    relay: OnceLock<mpsc::Sender<(Uuid, Event)>>,
 }
 
 impl Hub {
@@ -110,7 +144,36 @@ impl Hub {
         Arc::new(Hub {
             channels: Mutex::new(HashMap::new()),
             capacity: capacity.max(1),
+            relay: OnceLock::new(),
         })
+    }
+
+    /// From now on every event published or announced here is also sent to `relay`, which
+    /// passes it to the other nodes. Set once; a full relay drops progress events (the other
+    /// nodes' streams catch up from the store), never blocks the solver.
+    pub fn relay_to(&self, relay: mpsc::Sender<(Uuid, Event)>) {
+        let _ = self.relay.set(relay);
+    }
+
+    fn forward(&self, id: Uuid, event: &Event) {
+        if let Some(relay) = self.relay.get() {
+            let _ = relay.try_send((id, event.clone()));
+        }
+    }
+
+    /// Events of a run on another node, oldest first: to this node's listeners, and into the
+    /// replay for those that join later while someone listens.
+    pub fn deliver(self: &Arc<Self>, id: Uuid, events: Vec<Event>) {
+        let ch = self.channel(id);
+        for event in events {
+            ch.recent
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(event.clone());
+            let _ = ch.tx.send(event);
+        }
+        drop(ch);
+        self.release(id);
     }
 
     fn channel(&self, id: Uuid) -> Arc<Channel> {
@@ -141,6 +204,7 @@ impl Hub {
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .push(event.clone());
+        self.forward(id, &event);
         // An error only means nobody is listening.
         let _ = ch.tx.send(event);
         drop(ch);
@@ -241,6 +305,7 @@ impl Publisher {
             return;
         };
         let event = Event { id, name, data };
+        self.hub.forward(self.id, &event);
         if let Some(ch) = &self.ch {
             ch.recent
                 .lock()
@@ -371,6 +436,41 @@ mod tests {
         assert_eq!(sub.replay().last().unwrap().name, "failed");
         drop(sub);
         assert!(hub.is_empty());
+    }
+
+    #[test]
+    fn events_go_to_the_relay_and_relayed_ones_reach_listeners_with_their_ids() {
+        let (tx, mut relayed) = mpsc::channel(16);
+        let node_b = Hub::new(16);
+        node_b.relay_to(tx);
+        let node_a = Hub::new(16);
+        let id = Uuid::new_v4();
+        let mut sub = node_a.subscribe(id);
+        let mut p = node_b.publisher(id, 2);
+        p.send("progress", "1".into());
+        p.send("done", "{}".into());
+        let mut wire = Vec::new();
+        while let Ok((job, e)) = relayed.try_recv() {
+            assert_eq!(job, id);
+            wire.push(e.to_wire());
+        }
+        let events: Vec<Event> = wire.into_iter().filter_map(Event::from_wire).collect();
+        node_a.deliver(id, events);
+        let first = sub.rx.try_recv().unwrap();
+        assert_eq!((first.id, first.name), (event_id(2, 1), "progress"));
+        assert_eq!(sub.rx.try_recv().unwrap().id, final_id(2));
+        assert_eq!(sub.replay().len(), 2);
+        // A relayed event of a later claim starts a new replay.
+        node_a.deliver(
+            id,
+            vec![Event {
+                id: event_id(3, 1),
+                name: "progress",
+                data: "x".into(),
+            }],
+        );
+        assert_eq!(sub.replay().len(), 1);
+        assert!(Event::from_wire(WireEvent(1, "bogus".into(), String::new())).is_none());
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! worker pool, the progress hub and SSE. `crush serve` calls [`serve`]; tests call [`start`].
 
 mod bare_errors;
+mod cluster;
 mod error;
 mod form;
 pub mod hub;
@@ -31,9 +32,14 @@ pub struct ServeArgs {
     /// Port to listen on; 0 picks a free one. The bound address is printed on stdout.
     #[arg(long, env = "CRUSH_PORT", default_value_t = 8080)]
     pub port: u16,
-    /// SQLite database; the file is created if missing.
+    /// The store: `sqlite://FILE` (created if missing; one node) or `postgres://USER@HOST/DB`
+    /// (any number of nodes sharing one queue).
     #[arg(long, env = "DATABASE_URL", default_value = "sqlite://crush.db")]
     pub database_url: String,
+    /// This node's name, stored with each job it runs and shown by `/v1/jobs/{id}` and
+    /// `/metrics`; unique among the nodes of one database (default: host name and process id).
+    #[arg(long, env = "CRUSH_NODE_NAME")]
+    pub node_name: Option<String>,
     /// Jobs run at the same time by this process (0: accept and serve jobs, run none).
     #[arg(long, env = "CRUSH_CONCURRENT_JOBS", default_value_t = 1)]
     pub concurrent_jobs: usize,
@@ -185,6 +191,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         stale_after,
         max_attempts: args.max_attempts,
         poll: Duration::from_millis(500),
+        node: args.node_name.clone().unwrap_or_else(default_node_name),
     };
     let workers = Workers::new(store.clone(), hub.clone(), config, shutdown_rx.clone());
     let limits = HttpLimits {
@@ -198,14 +205,15 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
     };
     let state = AppState {
         store: store.clone(),
-        hub,
+        hub: hub.clone(),
         workers: workers.clone(),
         limits: Arc::new(limits),
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
         heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
         shutdown: shutdown_rx.clone(),
     };
-    let handles = workers.spawn();
+    let mut handles = workers.spawn();
+    handles.extend(cluster::start(&store, &hub, &workers, shutdown_rx.clone()));
     let router = app(state);
     let drain = workers.clone();
     let mut down = shutdown_rx;
@@ -232,6 +240,18 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         workers,
         task: Some(task),
     })
+}
+
+/// The host name and the process id: unique among nodes on different hosts, and among
+/// processes on one host.
+fn default_node_name() -> String {
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "crush".into());
+    format!("{host}-{}", std::process::id())
 }
 
 /// `crush serve`: runs the server until SIGINT or SIGTERM.

@@ -50,6 +50,8 @@ pub struct JobView {
     pub started_at: Option<String>,
     pub finished_at: Option<String>,
     pub attempts: i64,
+    /// The node that runs the job, or that ran its last claim; null before the first claim.
+    pub node: Option<String>,
     pub cancel_requested: bool,
     pub particles: i64,
     pub progress: Option<Value>,
@@ -75,6 +77,7 @@ impl JobView {
             started_at: r.started_at.map(rfc3339),
             finished_at: r.finished_at.map(rfc3339),
             attempts: r.attempts,
+            node: r.node.clone(),
             cancel_requested: r.cancel_requested,
             particles: r.particles,
             progress: json(r.progress_json.as_deref()),

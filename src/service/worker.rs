@@ -4,7 +4,7 @@
 
 use super::hub::{self, Hub, JobObserver};
 use super::state;
-use super::store::{Claimed, Result as StoreResult, Status, Store, Succeeded};
+use super::store::{signals, Claimed, Result as StoreResult, Signal, Status, Store, Succeeded};
 use super::views;
 use crate::solver::{self, Case, Limits, Progress, RunOutput, SolveError};
 use std::collections::HashMap;
@@ -27,6 +27,8 @@ pub struct WorkerConfig {
     pub max_attempts: u32,
     /// How often an idle worker looks for work another process queued.
     pub poll: Duration,
+    /// This node's name: stored with each job it claims (`--node-name`).
+    pub node: String,
 }
 
 /// A job running in this process.
@@ -61,8 +63,8 @@ impl Workers {
         Arc::new(Workers {
             store,
             hub,
-            config,
-            instance: format!("crush-{}", Uuid::new_v4()),
+            config: config.clone(),
+            instance: config.node.clone(),
             running: Mutex::new(HashMap::new()),
             wake: Notify::new(),
             shutdown,
@@ -87,14 +89,29 @@ impl Workers {
         handles
     }
 
-    /// A new job is queued: wake an idle worker.
+    /// A new job is queued: wake an idle worker here, and tell the other nodes (PostgreSQL).
     pub fn notify(&self) {
+        self.wake_here();
+        self.tell_others(Signal::Queued);
+    }
+
+    /// Wakes an idle worker of this node.
+    pub fn wake_here(&self) {
         self.wake.notify_waiters();
         self.wake.notify_one();
     }
 
-    /// Asks a job running here to stop. False when it does not run here.
-    pub fn cancel(&self, id: Uuid) -> bool {
+    /// Asks a job to stop: here if it runs here, else the node that runs it is told
+    /// (PostgreSQL; its heartbeat would also see the cancel, within a heartbeat).
+    pub fn cancel(&self, id: Uuid) {
+        if !self.cancel_here(id) {
+            self.tell_others(Signal::Cancel { job: id });
+        }
+    }
+
+    /// Stops a job running here at its next step, as the client's cancel. False when it does
+    /// not run here.
+    pub fn cancel_here(&self, id: Uuid) -> bool {
         match self.running().get(&id) {
             Some(r) => {
                 r.user_cancel.store(true, Ordering::Relaxed);
@@ -103,6 +120,25 @@ impl Workers {
             }
             None => false,
         }
+    }
+
+    /// Sends a signal to the other nodes without waiting for it; nothing on SQLite.
+    fn tell_others(&self, signal: Signal) {
+        if self.store.postgres_url().is_none() {
+            return;
+        }
+        let store = self.store.clone();
+        let payload = signals::encode(&self.config.node, signal);
+        tokio::spawn(async move {
+            if let Err(e) = store.notify(&payload).await {
+                tracing::warn!(error = %e, "telling the other nodes failed");
+            }
+        });
+    }
+
+    /// This node's name.
+    pub fn node(&self) -> &str {
+        &self.config.node
     }
 
     /// Stops every run at its next step, to be requeued (shutdown).

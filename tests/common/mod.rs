@@ -1,6 +1,11 @@
-//! Helpers of the API tests: the real server on port 0 with a temporary SQLite file, either
+//! Helpers of the API tests: the real server on port 0 with a fresh database, either
 //! in-process ([`TestApp`]) or as a child process of the built binary ([`Child`]); a small SSE
 //! reader; and the cases the tests submit.
+//!
+//! One harness, two backends: every API test runs against SQLite (a temporary file, the
+//! default) or, with `CRUSH_TEST_BACKEND=postgres`, against a fresh database of its own on the
+//! PostgreSQL server that `CRUSH_TEST_POSTGRES` names (`eval "$(bash .ci/postgres)"` starts a
+//! throw-away one). `.ci/run` runs the API suite both ways.
 #![allow(dead_code)]
 
 use futures::StreamExt;
@@ -59,11 +64,20 @@ impl TestApp {
     pub async fn start(flags: &[&str]) -> TestApp {
         let dir = tempfile::tempdir().unwrap();
         let db = database_url(dir.path());
+        TestApp::start_in(dir, &db, flags).await
+    }
+
+    /// A server on an existing database (another node of a cluster).
+    pub async fn start_on(db: &str, flags: &[&str]) -> TestApp {
+        TestApp::start_in(tempfile::tempdir().unwrap(), db, flags).await
+    }
+
+    async fn start_in(dir: tempfile::TempDir, db: &str, flags: &[&str]) -> TestApp {
         let mut all = vec![
             "--port",
             "0",
             "--database-url",
-            db.as_str(),
+            db,
             "--threads-per-job",
             "1",
         ];
@@ -129,8 +143,54 @@ impl TestApp {
     }
 }
 
+/// A fresh, empty database for one server (or one cluster of nodes): a SQLite file in `dir`,
+/// or a new PostgreSQL database when `CRUSH_TEST_BACKEND=postgres`.
 pub fn database_url(dir: &Path) -> String {
+    match std::env::var("CRUSH_TEST_BACKEND").as_deref() {
+        Ok("postgres") => fresh_postgres_database(),
+        Ok("sqlite") | Err(_) => sqlite_url(dir),
+        Ok(other) => panic!("CRUSH_TEST_BACKEND is sqlite or postgres, not {other:?}"),
+    }
+}
+
+/// A SQLite file in `dir`, whatever the backend under test (tests of the file itself).
+pub fn sqlite_url(dir: &Path) -> String {
     format!("sqlite://{}", dir.join("crush.db").display())
+}
+
+/// The admin URL of the test PostgreSQL server (`CRUSH_TEST_POSTGRES`).
+pub fn postgres_admin() -> String {
+    std::env::var("CRUSH_TEST_POSTGRES").expect(
+        "CRUSH_TEST_POSTGRES names the test PostgreSQL server: eval \"$(bash .ci/postgres)\"",
+    )
+}
+
+/// Creates an empty database on the test PostgreSQL server and returns its URL.
+pub fn fresh_postgres_database() -> String {
+    use sqlx::{Connection, Executor};
+    let admin = postgres_admin();
+    let name = format!("crush_test_{}", uuid::Uuid::new_v4().simple());
+    let (base, _) = admin.rsplit_once('/').expect("a URL ending in /DATABASE");
+    let url = format!("{base}/{name}");
+    // On a thread of its own: the caller may be inside a runtime, which cannot block.
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        rt.block_on(async {
+            let mut c = sqlx::PgConnection::connect(&admin)
+                .await
+                .expect("the test PostgreSQL server answers");
+            c.execute(format!("CREATE DATABASE {name}").as_str())
+                .await
+                .unwrap();
+            c.close().await.unwrap();
+        })
+    })
+    .join()
+    .unwrap();
+    url
 }
 
 pub async fn get_json(client: &reqwest::Client, url: &str) -> Value {

@@ -70,6 +70,19 @@ pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
             "# HELP {name} {help}\n# TYPE {name} gauge\n{name} {value}"
         );
     }
+    // Prometheus' label-value escapes: backslash, quote, newline.
+    let node = s
+        .workers
+        .node()
+        .replace('\\', "\\\\")
+        .replace('"', "\\\"")
+        .replace('\n', "\\n");
+    let _ = writeln!(
+        out,
+        "# HELP crush_node This process: its node name and its store's backend.\n\
+         # TYPE crush_node gauge\ncrush_node{{node=\"{node}\",backend=\"{}\"}} 1",
+        s.store.backend_name()
+    );
     let total = s.workers.particle_steps_total.load(Ordering::Relaxed);
     let _ = writeln!(
         out,

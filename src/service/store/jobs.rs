@@ -3,7 +3,7 @@
 
 use super::{job_from_row, now_ms, JobRecord, Result, Status, Store, JOB_COLUMNS, JOB_FROM};
 use crate::solver::HistoryRow;
-use sqlx::{Sqlite, Transaction};
+use sqlx::{Any, Transaction};
 use uuid::Uuid;
 
 /// A job to insert.
@@ -55,10 +55,10 @@ pub enum CancelOutcome {
 impl Store {
     /// Inserts a job unless the queue is full or the idempotency key was used before.
     pub async fn submit(&self, job: NewJob, max_queue: u64) -> Result<Submitted> {
-        let mut tx = self.write().await?;
+        let mut tx = self.write_submit().await?;
         if let Some(key) = &job.idempotency_key {
             let seen: Option<(String, String)> =
-                sqlx::query_as("SELECT id, case_json FROM jobs WHERE idempotency_key = ?")
+                sqlx::query_as("SELECT id, case_json FROM jobs WHERE idempotency_key = $1")
                     .bind(key)
                     .fetch_optional(&mut *tx)
                     .await?;
@@ -87,7 +87,7 @@ impl Store {
     }
 
     pub async fn job(&self, id: Uuid) -> Result<Option<JobRecord>> {
-        let sql = format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.id = ?");
+        let sql = format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.id = $1");
         let row = sqlx::query(&sql)
             .bind(id.to_string())
             .fetch_optional(&self.pool)
@@ -97,33 +97,47 @@ impl Store {
 
     /// Jobs newest first, filtered.
     pub async fn list(&self, filter: &ListFilter) -> Result<Vec<JobRecord>> {
-        let mut q = sqlx::QueryBuilder::<Sqlite>::new(format!(
-            "SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE 1 = 1"
-        ));
+        // Placeholders are numbered by hand: sqlx's query builder writes `?` for the `Any`
+        // driver, which only SQLite reads.
+        let mut sql = format!("SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE 1 = 1");
+        let mut n = 0;
+        let mut next = || {
+            n += 1;
+            format!("${n}")
+        };
         if !filter.statuses.is_empty() {
-            q.push(" AND j.status IN (");
-            let mut list = q.separated(", ");
-            for s in &filter.statuses {
-                list.push_bind(s.as_str());
-            }
-            q.push(")");
+            let list: Vec<String> = filter.statuses.iter().map(|_| next()).collect();
+            sql += &format!(" AND j.status IN ({})", list.join(", "));
+        }
+        if filter.label.is_some() {
+            sql += &format!(" AND j.label = {}", next());
+        }
+        if filter.before.is_some() {
+            sql += &format!(" AND j.seq < {}", next());
+        }
+        sql += &format!(" ORDER BY j.seq DESC LIMIT {}", next());
+        let mut q = sqlx::query(&sql);
+        for s in &filter.statuses {
+            q = q.bind(s.as_str());
         }
         if let Some(label) = &filter.label {
-            q.push(" AND j.label = ").push_bind(label.clone());
+            q = q.bind(label.clone());
         }
         if let Some(before) = filter.before {
-            q.push(" AND j.seq < ").push_bind(before);
+            q = q.bind(before);
         }
-        q.push(" ORDER BY j.seq DESC LIMIT ")
-            .push_bind(filter.limit as i64);
-        let rows = q.build().fetch_all(&self.pool).await?;
+        let rows = q.bind(filter.limit as i64).fetch_all(&self.pool).await?;
         rows.iter().map(job_from_row).collect()
     }
 
     /// Cancels a queued job at once, or asks the worker of a running one to stop.
     pub async fn cancel(&self, id: Uuid) -> Result<CancelOutcome> {
         let mut tx = self.write().await?;
-        let status: Option<(String,)> = sqlx::query_as("SELECT status FROM jobs WHERE id = ?")
+        let sql = format!(
+            "SELECT status FROM jobs WHERE id = $1{}",
+            self.backend.for_update()
+        );
+        let status: Option<(String,)> = sqlx::query_as(&sql)
             .bind(id.to_string())
             .fetch_optional(&mut *tx)
             .await?;
@@ -133,8 +147,8 @@ impl Store {
         let outcome = match status {
             Status::Queued => {
                 sqlx::query(
-                    "UPDATE jobs SET status = 'cancelled', cancel_requested = 1, finished_at = ? \
-                     WHERE id = ?",
+                    "UPDATE jobs SET status = 'cancelled', cancel_requested = 1, finished_at = $1 \
+                     WHERE id = $2",
                 )
                 .bind(now_ms())
                 .bind(id.to_string())
@@ -143,7 +157,7 @@ impl Store {
                 Status::Cancelled
             }
             Status::Running => {
-                sqlx::query("UPDATE jobs SET cancel_requested = 1 WHERE id = ?")
+                sqlx::query("UPDATE jobs SET cancel_requested = 1 WHERE id = $1")
                     .bind(id.to_string())
                     .execute(&mut *tx)
                     .await?;
@@ -166,7 +180,7 @@ impl Store {
     /// The stored history of a job, each row's values in [`HistoryRow::COLUMNS`] order.
     pub async fn history(&self, id: Uuid) -> Result<Vec<Vec<f64>>> {
         let sql = format!(
-            "SELECT {} FROM history WHERE job_id = ? ORDER BY row",
+            "SELECT {} FROM history WHERE job_id = $1 ORDER BY row",
             HistoryRow::COLUMNS.join(", ")
         );
         let rows = sqlx::query(&sql)
@@ -188,7 +202,7 @@ impl Store {
     /// The stored final particle state of a job: (particles, bytes); `None` when none was kept.
     pub async fn final_state(&self, id: Uuid) -> Result<Option<(usize, Vec<u8>)>> {
         let row: Option<(i64, Vec<u8>)> =
-            sqlx::query_as("SELECT particles, data FROM final_states WHERE job_id = ?")
+            sqlx::query_as("SELECT particles, data FROM final_states WHERE job_id = $1")
                 .bind(id.to_string())
                 .fetch_optional(&self.pool)
                 .await?;
@@ -197,7 +211,7 @@ impl Store {
 }
 
 /// Jobs waiting to run.
-pub(super) async fn queue_depth(tx: &mut Transaction<'static, Sqlite>) -> Result<i64> {
+pub(super) async fn queue_depth(tx: &mut Transaction<'static, Any>) -> Result<i64> {
     let (n,): (i64,) = sqlx::query_as("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
         .fetch_one(&mut **tx)
         .await?;
@@ -206,13 +220,14 @@ pub(super) async fn queue_depth(tx: &mut Transaction<'static, Sqlite>) -> Result
 
 /// Inserts a queued job; `sweep` is (sweep id, index, swept values as JSON).
 pub(super) async fn insert_job(
-    tx: &mut Transaction<'static, Sqlite>,
+    tx: &mut Transaction<'static, Any>,
     job: &NewJob,
     sweep: Option<(Uuid, i64, &str)>,
 ) -> Result<()> {
     sqlx::query(
         "INSERT INTO jobs (id, status, label, case_json, particles, idempotency_key, sweep_id, \
-         sweep_index, sweep_values_json, created_at) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?)",
+         sweep_index, sweep_values_json, created_at) \
+         VALUES ($1, 'queued', $2, $3, $4, $5, $6, $7, $8, $9)",
     )
     .bind(job.id.to_string())
     .bind(&job.label)

@@ -1,24 +1,32 @@
 //! The job store: every SQL statement of the service lives under this module, behind the methods
-//! of [`Store`], so that routes and workers never see a query and a second backend can come
-//! later. SQLite in WAL mode; every write transaction is `BEGIN IMMEDIATE`, so a writer takes the
-//! lock up front instead of failing on upgrade. Times are unix milliseconds.
+//! of [`Store`], so that routes and workers never see a query or which database answers it.
+//! Two backends, chosen by the URL: SQLite (`sqlite://FILE`, WAL mode, the zero-setup default)
+//! and PostgreSQL (`postgres://…`, many nodes on one queue); [`backend`] says where they differ
+//! and [`signals`] carries PostgreSQL's notifications between nodes. Times are unix
+//! milliseconds.
 
+mod backend;
 mod file;
 mod jobs;
+pub mod signals;
 mod sweeps;
 mod worker;
 
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
+pub use signals::Signal;
 pub use sweeps::{NewSweep, SweepRecord, SweepSubmitted};
 pub use worker::{Claimed, Reaped, Succeeded};
 
 use crate::solver::Summary;
+use backend::Backend;
 use serde::{Deserialize, Serialize};
-use sqlx::sqlite::{
-    SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous,
-};
+use sqlx::any::AnyPoolOptions;
+use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode};
+use sqlx::AnyPool;
+use sqlx::{ConnectOptions, Connection, Executor};
 use std::str::FromStr;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 use uuid::Uuid;
@@ -36,6 +44,9 @@ pub enum StoreError {
     /// another file): anything written now would be lost.
     #[error("{0}")]
     FileGone(String),
+    /// The database URL names no database this server can use.
+    #[error("{0}")]
+    Url(String),
 }
 
 impl StoreError {
@@ -46,22 +57,20 @@ impl StoreError {
         match self {
             StoreError::FileGone(_) => true,
             StoreError::Db(e) => transient(e),
-            StoreError::Migrate(_) | StoreError::Corrupt(_) => false,
+            StoreError::Migrate(_) | StoreError::Corrupt(_) | StoreError::Url(_) => false,
         }
     }
 }
 
-/// SQLite's primary result codes that say the database cannot be used now, not that the
-/// statement was wrong: BUSY 5, LOCKED 6, NOMEM 7, READONLY 8, IOERR 10, CORRUPT 11 (as a
-/// disk error reads), FULL 13, CANTOPEN 14, PROTOCOL 15.
-const UNAVAILABLE_CODES: [i64; 9] = [5, 6, 7, 8, 10, 11, 13, 14, 15];
-
 fn transient(e: &sqlx::Error) -> bool {
     match e {
-        sqlx::Error::Database(db) => db
-            .code()
-            .and_then(|c| c.parse::<i64>().ok())
-            .is_some_and(|c| UNAVAILABLE_CODES.contains(&(c & 0xff))),
+        sqlx::Error::Database(db) => {
+            let postgres = db
+                .try_downcast_ref::<sqlx::postgres::PgDatabaseError>()
+                .is_some();
+            db.code()
+                .is_some_and(|c| backend::unavailable_code(&c, postgres))
+        }
         sqlx::Error::Io(_)
         | sqlx::Error::PoolTimedOut
         | sqlx::Error::PoolClosed
@@ -130,6 +139,8 @@ pub struct JobRecord {
     pub cancel_requested: bool,
     pub progress_json: Option<String>,
     pub error: Option<String>,
+    /// The node that runs the job, or that ran its last claim (`--node-name`).
+    pub node: Option<String>,
     /// The run's summary, once it succeeded: read back typed, so that a field the solver
     /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
     pub summary: Option<Summary>,
@@ -138,9 +149,8 @@ pub struct JobRecord {
 /// The store. Cheap to clone (a pool handle).
 #[derive(Debug, Clone)]
 pub struct Store {
-    pool: SqlitePool,
-    /// The database file as opened; `None` for an in-memory database.
-    file: Option<std::sync::Arc<file::DbFile>>,
+    pool: AnyPool,
+    backend: Arc<Backend>,
 }
 
 /// How long the health probe may wait for the write lock before it calls the database
@@ -148,43 +158,89 @@ pub struct Store {
 pub const HEALTH_TIMEOUT: Duration = Duration::from_secs(3);
 
 impl Store {
-    /// Opens (creating if missing) the database at `url` and runs the migrations.
+    /// Opens the database at `url` (`sqlite://FILE`, created if missing, or `postgres://…`)
+    /// and runs its backend's migrations.
     pub async fn open(url: &str) -> Result<Store> {
-        let options = SqliteConnectOptions::from_str(url)?
-            .create_if_missing(true)
-            .journal_mode(SqliteJournalMode::Wal)
-            .synchronous(SqliteSynchronous::Normal)
-            .foreign_keys(true)
-            .busy_timeout(Duration::from_secs(10));
-        let in_memory = url.contains(":memory:") || url.contains("mode=memory");
-        let path = options.get_filename().to_path_buf();
-        let pool = SqlitePoolOptions::new()
-            .max_connections(8)
+        sqlx::any::install_default_drivers();
+        let backend = if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+            Backend::Postgres {
+                url: url.to_string(),
+            }
+        } else if url.starts_with("sqlite:") {
+            Backend::Sqlite {
+                file: Arc::new(create_sqlite(url).await?),
+            }
+        } else {
+            return Err(StoreError::Url(format!(
+                "the database URL must start with sqlite:// or postgres://, not {:?}",
+                url.split(':').next().unwrap_or("")
+            )));
+        };
+        let sqlite = matches!(backend, Backend::Sqlite { .. });
+        let pool = AnyPoolOptions::new()
+            .max_connections(if sqlite { 8 } else { 10 })
+            .acquire_timeout(Duration::from_secs(10))
+            .after_connect(move |conn, _| {
+                Box::pin(async move {
+                    if sqlite {
+                        // Per connection; WAL itself was set on the file by `create_sqlite`.
+                        conn.execute("PRAGMA synchronous = NORMAL").await?;
+                        conn.execute("PRAGMA foreign_keys = ON").await?;
+                        conn.execute("PRAGMA busy_timeout = 10000").await?;
+                    }
+                    Ok(())
+                })
+            })
             // A connection a failure may have broken is closed, not reused: see `fresh_enough`.
             .before_acquire(|_, meta| Box::pin(async move { Ok(fresh_enough(meta.age)) }))
-            .connect_with(options)
+            .connect(url)
             .await?;
-        sqlx::migrate!("./migrations").run(&pool).await?;
-        let file = if in_memory {
-            None
+        if sqlite {
+            sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
         } else {
-            let file = file::DbFile::opened(path).map_err(sqlx::Error::Io)?;
-            Some(std::sync::Arc::new(file))
-        };
-        Ok(Store { pool, file })
+            sqlx::migrate!("./migrations/postgres").run(&pool).await?;
+        }
+        Ok(Store {
+            pool,
+            backend: Arc::new(backend),
+        })
     }
 
-    /// A write transaction that holds the write lock from its first statement. Refused when
-    /// the database file is no longer the one opened: a write there would be lost.
-    async fn write(&self) -> Result<sqlx::Transaction<'static, sqlx::Sqlite>> {
+    /// `sqlite` or `postgres`.
+    pub fn backend_name(&self) -> &'static str {
+        self.backend.name()
+    }
+
+    /// The PostgreSQL URL, for a listener's own connection; `None` on SQLite.
+    pub fn postgres_url(&self) -> Option<&str> {
+        match &*self.backend {
+            Backend::Postgres { url } => Some(url),
+            Backend::Sqlite { .. } => None,
+        }
+    }
+
+    /// A write transaction: on SQLite it holds the write lock from its first statement; on
+    /// PostgreSQL its statements lock what they change. Refused when the SQLite file is no
+    /// longer the one opened: a write there would be lost.
+    async fn write(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>> {
         self.check_file()?;
-        Ok(self.pool.begin_with("BEGIN IMMEDIATE").await?)
+        Ok(self.pool.begin_with(self.backend.begin()).await?)
+    }
+
+    /// A write transaction that is the only submit at a time, so that the queue bound and the
+    /// idempotency check see every submit before it.
+    async fn write_submit(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>> {
+        let mut tx = self.write().await?;
+        if let Some(lock) = self.backend.submit_lock() {
+            sqlx::query(&lock).execute(&mut *tx).await?;
+        }
+        Ok(tx)
     }
 
     /// Whether the database file at the path is still the one this store opened; logs loudly
-    /// the first time it is not.
+    /// the first time it is not. Always fine on PostgreSQL.
     pub fn check_file(&self) -> Result<()> {
-        match &self.file {
+        match self.backend.file() {
             Some(f) => f.check().map_err(StoreError::FileGone),
             None => Ok(()),
         }
@@ -195,7 +251,7 @@ impl Store {
     pub async fn probe_write(&self) -> Result<()> {
         let probe = async {
             let mut tx = self.write().await?;
-            sqlx::query("UPDATE health SET checked_at = ? WHERE id = 1")
+            sqlx::query("UPDATE health SET checked_at = $1 WHERE id = 1")
                 .bind(now_ms())
                 .execute(&mut *tx)
                 .await?;
@@ -264,6 +320,25 @@ fn fresh_enough(age: Duration) -> bool {
     trouble == 0 || created > trouble + CLOCK_SLACK_NS
 }
 
+/// Creates the SQLite file if it is missing and puts it in WAL mode (a property of the file,
+/// kept by every later connection), and returns its identity. An in-memory database is
+/// refused: each pooled connection would see its own, and a job submitted on one would be lost.
+async fn create_sqlite(url: &str) -> Result<file::DbFile> {
+    let options = SqliteConnectOptions::from_str(url)?
+        .create_if_missing(true)
+        .journal_mode(SqliteJournalMode::Wal)
+        .busy_timeout(Duration::from_secs(10));
+    if url.contains(":memory:") || url.contains("mode=memory") {
+        return Err(StoreError::Url(
+            "an in-memory SQLite database would lose its jobs between connections; name a file"
+                .into(),
+        ));
+    }
+    let path = options.get_filename().to_path_buf();
+    options.connect().await?.close().await?;
+    file::DbFile::opened(path).map_err(|e| sqlx::Error::Io(e).into())
+}
+
 /// Unix time now, ms.
 pub fn now_ms() -> i64 {
     let d = std::time::SystemTime::now()
@@ -275,12 +350,12 @@ pub fn now_ms() -> i64 {
 /// The columns every job query selects ([`job_from_row`] reads them by name).
 const JOB_COLUMNS: &str = "j.seq, j.id, j.status, j.label, j.case_json, j.particles, j.sweep_id, \
      j.sweep_values_json, j.created_at, j.started_at, j.finished_at, j.attempts, \
-     j.cancel_requested, j.progress_json, j.error, s.summary_json";
+     j.cancel_requested, j.progress_json, j.error, j.worker, s.summary_json";
 
 /// `FROM` clause matching [`JOB_COLUMNS`].
 const JOB_FROM: &str = "jobs j LEFT JOIN summaries s ON s.job_id = j.id";
 
-fn job_from_row(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord> {
+fn job_from_row(row: &sqlx::any::AnyRow) -> Result<JobRecord> {
     use sqlx::Row;
     // By name: a column added to or moved in JOB_COLUMNS cannot shift the others.
     let id: String = row.try_get("id")?;
@@ -303,6 +378,7 @@ fn job_from_row(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord> {
         cancel_requested: row.try_get::<i64, _>("cancel_requested")? != 0,
         progress_json: row.try_get("progress_json")?,
         error: row.try_get("error")?,
+        node: row.try_get("worker")?,
         summary: read_summary(&id, row.try_get("summary_json")?)?,
     })
 }

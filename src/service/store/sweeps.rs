@@ -38,14 +38,14 @@ pub enum SweepSubmitted {
 impl Store {
     /// Inserts the sweep and all its jobs, or nothing.
     pub async fn create_sweep(&self, sweep: NewSweep, max_queue: u64) -> Result<SweepSubmitted> {
-        let mut tx = self.write().await?;
+        let mut tx = self.write_submit().await?;
         let depth = queue_depth(&mut tx).await?;
         if depth as u64 + sweep.jobs.len() as u64 > max_queue {
             return Ok(SweepSubmitted::QueueFull { depth });
         }
         sqlx::query(
             "INSERT INTO sweeps (id, created_at, label, base_json, parameters_json) \
-             VALUES (?, ?, ?, ?, ?)",
+             VALUES ($1, $2, $3, $4, $5)",
         )
         .bind(sweep.id.to_string())
         .bind(now_ms())
@@ -68,7 +68,7 @@ impl Store {
     /// A sweep and its jobs in combination order.
     pub async fn sweep(&self, id: Uuid) -> Result<Option<(SweepRecord, Vec<JobRecord>)>> {
         let row: Option<(String, i64, Option<String>, String, String)> = sqlx::query_as(
-            "SELECT id, created_at, label, base_json, parameters_json FROM sweeps WHERE id = ?",
+            "SELECT id, created_at, label, base_json, parameters_json FROM sweeps WHERE id = $1",
         )
         .bind(id.to_string())
         .fetch_optional(&self.pool)
@@ -77,7 +77,7 @@ impl Store {
             return Ok(None);
         };
         let sql = format!(
-            "SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.sweep_id = ? ORDER BY j.sweep_index"
+            "SELECT {JOB_COLUMNS} FROM {JOB_FROM} WHERE j.sweep_id = $1 ORDER BY j.sweep_index"
         );
         let rows = sqlx::query(&sql)
             .bind(id.to_string())

@@ -6,7 +6,7 @@
 
 use super::{now_ms, Result, Status, Store};
 use crate::solver::{HistoryRow, Summary};
-use sqlx::Sqlite;
+use sqlx::Any;
 use uuid::Uuid;
 
 /// A job a worker has claimed.
@@ -39,27 +39,33 @@ pub struct Succeeded<'a> {
 }
 
 /// History rows per INSERT statement (2 + `HistoryRow::COLUMNS.len()` bound values each, far
-/// below SQLite's limit of 32 766).
+/// below SQLite's limit of 32 766 and PostgreSQL's of 65 535).
 const HISTORY_CHUNK: usize = 500;
 
 impl Store {
-    /// Claims the oldest queued job for `worker`.
+    /// Claims the oldest queued job for node `worker`, in one statement. On PostgreSQL the
+    /// choice skips rows other nodes are claiming at the same moment (`SKIP LOCKED`), and the
+    /// `status = 'queued'` test is checked again on the locked row, so two nodes never claim
+    /// one job.
     pub async fn claim(&self, worker: &str) -> Result<Option<Claimed>> {
         let lease = Uuid::new_v4();
         let now = now_ms();
         let mut tx = self.write().await?;
-        let row: Option<(String, String, i64)> = sqlx::query_as(
-            "UPDATE jobs SET status = 'running', attempts = attempts + 1, lease = ?1, worker = ?2, \
-             heartbeat_at = ?3, started_at = COALESCE(started_at, ?3), progress_json = NULL, \
+        let sql = format!(
+            "UPDATE jobs SET status = 'running', attempts = attempts + 1, lease = $1, worker = $2, \
+             heartbeat_at = $3, started_at = COALESCE(started_at, $3), progress_json = NULL, \
              progress_fraction = NULL \
-             WHERE seq = (SELECT seq FROM jobs WHERE status = 'queued' ORDER BY seq LIMIT 1) \
+             WHERE status = 'queued' AND seq = (SELECT seq FROM jobs WHERE status = 'queued' \
+             ORDER BY seq LIMIT 1{}) \
              RETURNING id, case_json, attempts",
-        )
-        .bind(lease.to_string())
-        .bind(worker)
-        .bind(now)
-        .fetch_optional(&mut *tx)
-        .await?;
+            self.backend.skip_locked()
+        );
+        let row: Option<(String, String, i64)> = sqlx::query_as(&sql)
+            .bind(lease.to_string())
+            .bind(worker)
+            .bind(now)
+            .fetch_optional(&mut *tx)
+            .await?;
         tx.commit().await?;
         row.map(|(id, case_json, attempt)| {
             Ok(Claimed {
@@ -82,9 +88,9 @@ impl Store {
     ) -> Result<Option<bool>> {
         let mut tx = self.write().await?;
         let row: Option<(i64,)> = sqlx::query_as(
-            "UPDATE jobs SET heartbeat_at = ?, progress_json = COALESCE(?, progress_json), \
-             progress_fraction = COALESCE(?, progress_fraction) \
-             WHERE id = ? AND lease = ? AND status = 'running' RETURNING cancel_requested",
+            "UPDATE jobs SET heartbeat_at = $1, progress_json = COALESCE($2, progress_json), \
+             progress_fraction = COALESCE($3, progress_fraction) \
+             WHERE id = $4 AND lease = $5 AND status = 'running' RETURNING cancel_requested",
         )
         .bind(now_ms())
         .bind(progress.map(|p| p.0))
@@ -119,7 +125,7 @@ impl Store {
         // here instead of storing zeros.
         let mode = summary.mode.kind();
         let mut tx = self.write().await?;
-        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+        let Some(cancel_requested) = holds(&self.backend, &mut tx, id, lease).await? else {
             return Ok(None);
         };
         if cancel_requested {
@@ -129,44 +135,44 @@ impl Store {
         }
         let job = id.to_string();
         // A retried job starts from nothing: no row of an earlier attempt survives.
-        sqlx::query("DELETE FROM history WHERE job_id = ?")
+        sqlx::query("DELETE FROM history WHERE job_id = $1")
             .bind(&job)
             .execute(&mut *tx)
             .await?;
-        sqlx::query("DELETE FROM summaries WHERE job_id = ?")
+        sqlx::query("DELETE FROM summaries WHERE job_id = $1")
             .bind(&job)
             .execute(&mut *tx)
             .await?;
-        sqlx::query("DELETE FROM final_states WHERE job_id = ?")
+        sqlx::query("DELETE FROM final_states WHERE job_id = $1")
             .bind(&job)
             .execute(&mut *tx)
             .await?;
         if let Some((particles, data)) = final_state {
-            sqlx::query("INSERT INTO final_states (job_id, particles, data) VALUES (?, ?, ?)")
+            sqlx::query("INSERT INTO final_states (job_id, particles, data) VALUES ($1, $2, $3)")
                 .bind(&job)
                 .bind(particles as i64)
                 .bind(data)
                 .execute(&mut *tx)
                 .await?;
         }
+        let width = 2 + HistoryRow::COLUMNS.len();
         for (chunk_no, chunk) in history.chunks(HISTORY_CHUNK).enumerate() {
-            let mut q = sqlx::QueryBuilder::<Sqlite>::new(format!(
-                "INSERT INTO history (job_id, row, {}) ",
-                HistoryRow::COLUMNS.join(", ")
-            ));
-            q.push_values(chunk.iter().enumerate(), |mut b, (i, row)| {
-                b.push_bind(&job)
-                    .push_bind((chunk_no * HISTORY_CHUNK + i) as i64);
+            let sql = history_insert(chunk.len(), width);
+            let mut q = sqlx::query(&sql);
+            for (i, row) in chunk.iter().enumerate() {
+                q = q
+                    .bind(job.clone())
+                    .bind((chunk_no * HISTORY_CHUNK + i) as i64);
                 for v in row.values() {
-                    b.push_bind(v);
+                    q = q.bind(v);
                 }
-            });
-            q.build().execute(&mut *tx).await?;
+            }
+            q.execute(&mut *tx).await?;
         }
         sqlx::query(
             "INSERT INTO summaries (job_id, mean_load_n, peak_load_n, energy_absorbed_mj, \
              crush_distance_mm, folds, mode, energy_balance_error, particles, steps, wall_time_s, \
-             summary_json) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+             summary_json) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12)",
         )
         .bind(&job)
         .bind(summary.mean_load_n)
@@ -183,9 +189,9 @@ impl Store {
         .execute(&mut *tx)
         .await?;
         sqlx::query(
-            "UPDATE jobs SET status = 'succeeded', finished_at = ?, lease = NULL, heartbeat_at = NULL, \
-             progress_json = COALESCE(?, progress_json), progress_fraction = 1.0, error = NULL \
-             WHERE id = ?",
+            "UPDATE jobs SET status = 'succeeded', finished_at = $1, lease = NULL, \
+             heartbeat_at = NULL, progress_json = COALESCE($2, progress_json), \
+             progress_fraction = 1.0, error = NULL WHERE id = $3",
         )
         .bind(now_ms())
         .bind(progress_json)
@@ -208,7 +214,7 @@ impl Store {
     ) -> Result<Option<Status>> {
         debug_assert!(matches!(status, Status::Failed | Status::Cancelled));
         let mut tx = self.write().await?;
-        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+        let Some(cancel_requested) = holds(&self.backend, &mut tx, id, lease).await? else {
             return Ok(None);
         };
         let status = if cancel_requested {
@@ -231,10 +237,10 @@ impl Store {
         max_attempts: u32,
     ) -> Result<Option<Status>> {
         let mut tx = self.write().await?;
-        let Some(cancel_requested) = holds(&mut tx, id, lease).await? else {
+        let Some(cancel_requested) = holds(&self.backend, &mut tx, id, lease).await? else {
             return Ok(None);
         };
-        let (attempts,): (i64,) = sqlx::query_as("SELECT attempts FROM jobs WHERE id = ?")
+        let (attempts,): (i64,) = sqlx::query_as("SELECT attempts FROM jobs WHERE id = $1")
             .bind(id.to_string())
             .fetch_one(&mut *tx)
             .await?;
@@ -248,7 +254,7 @@ impl Store {
         } else {
             sqlx::query(
                 "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, \
-                 heartbeat_at = NULL, progress_json = NULL, progress_fraction = NULL WHERE id = ?",
+                 heartbeat_at = NULL, progress_json = NULL, progress_fraction = NULL WHERE id = $1",
             )
             .bind(id.to_string())
             .execute(&mut *tx)
@@ -269,19 +275,19 @@ impl Store {
             rows.iter().map(|(id,)| super::parse_uuid(id)).collect()
         };
         let cancelled = sqlx::query_as(
-            "UPDATE jobs SET status = 'cancelled', finished_at = ?1, lease = NULL, \
+            "UPDATE jobs SET status = 'cancelled', finished_at = $1, lease = NULL, \
              heartbeat_at = NULL, lost = lost + 1 \
-             WHERE status = 'running' AND heartbeat_at < ?2 AND cancel_requested = 1 RETURNING id",
+             WHERE status = 'running' AND heartbeat_at < $2 AND cancel_requested = 1 RETURNING id",
         )
         .bind(now)
         .bind(cutoff)
         .fetch_all(&mut *tx)
         .await?;
         let failed = sqlx::query_as(
-            "UPDATE jobs SET status = 'failed', finished_at = ?1, lease = NULL, heartbeat_at = NULL, \
+            "UPDATE jobs SET status = 'failed', finished_at = $1, lease = NULL, heartbeat_at = NULL, \
              lost = lost + 1, error = 'started ' || attempts || ' times (the most allowed) and ' \
              || 'never finished: its worker stopped answering ' || (lost + 1) || ' of them' \
-             WHERE status = 'running' AND heartbeat_at < ?2 AND attempts >= ?3 RETURNING id",
+             WHERE status = 'running' AND heartbeat_at < $2 AND attempts >= $3 RETURNING id",
         )
         .bind(now)
         .bind(cutoff)
@@ -291,7 +297,7 @@ impl Store {
         let requeued = sqlx::query_as(
             "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, heartbeat_at = NULL, \
              lost = lost + 1, progress_json = NULL, progress_fraction = NULL \
-             WHERE status = 'running' AND heartbeat_at < ?1 RETURNING id",
+             WHERE status = 'running' AND heartbeat_at < $1 RETURNING id",
         )
         .bind(cutoff)
         .fetch_all(&mut *tx)
@@ -306,31 +312,36 @@ impl Store {
 }
 
 /// Whether `lease` still holds the running job `id`: `Some(cancel_requested)` if it does.
+/// The row stays locked to the end of the transaction on PostgreSQL, so no cancel or reaper
+/// can change it between this check and the write that follows.
 async fn holds(
-    tx: &mut sqlx::Transaction<'static, Sqlite>,
+    backend: &super::Backend,
+    tx: &mut sqlx::Transaction<'static, Any>,
     id: Uuid,
     lease: Uuid,
 ) -> Result<Option<bool>> {
-    let row: Option<(i64,)> = sqlx::query_as(
-        "SELECT cancel_requested FROM jobs WHERE id = ? AND lease = ? AND status = 'running'",
-    )
-    .bind(id.to_string())
-    .bind(lease.to_string())
-    .fetch_optional(&mut **tx)
-    .await?;
+    let sql = format!(
+        "SELECT cancel_requested FROM jobs WHERE id = $1 AND lease = $2 AND status = 'running'{}",
+        backend.for_update()
+    );
+    let row: Option<(i64,)> = sqlx::query_as(&sql)
+        .bind(id.to_string())
+        .bind(lease.to_string())
+        .fetch_optional(&mut **tx)
+        .await?;
     Ok(row.map(|(c,)| c != 0))
 }
 
 /// Ends a held run as `status` (failed or cancelled) with an optional reason.
 async fn end_run(
-    tx: &mut sqlx::Transaction<'static, Sqlite>,
+    tx: &mut sqlx::Transaction<'static, Any>,
     id: Uuid,
     status: Status,
     error: Option<&str>,
 ) -> Result<()> {
     sqlx::query(
-        "UPDATE jobs SET status = ?, error = ?, finished_at = ?, lease = NULL, heartbeat_at = NULL \
-         WHERE id = ?",
+        "UPDATE jobs SET status = $1, error = $2, finished_at = $3, lease = NULL, \
+         heartbeat_at = NULL WHERE id = $4",
     )
     .bind(status.as_str())
     .bind(error)
@@ -339,6 +350,21 @@ async fn end_run(
     .execute(&mut **tx)
     .await?;
     Ok(())
+}
+
+/// `INSERT INTO history … VALUES ($1, …), (…)` for `rows` rows of `width` values.
+fn history_insert(rows: usize, width: usize) -> String {
+    let tuples: Vec<String> = (0..rows)
+        .map(|r| {
+            let params: Vec<String> = (1..=width).map(|c| format!("${}", r * width + c)).collect();
+            format!("({})", params.join(", "))
+        })
+        .collect();
+    format!(
+        "INSERT INTO history (job_id, row, {}) VALUES {}",
+        HistoryRow::COLUMNS.join(", "),
+        tuples.join(", ")
+    )
 }
 
 /// Why a job that used up its attempts failed.
@@ -474,7 +500,7 @@ mod tests {
         assert_eq!(stored.unwrap(), Some(Status::Succeeded));
         let row: (f64, f64, f64, f64, i64, String, f64, i64, i64, f64) = sqlx::query_as(
             "SELECT mean_load_n, peak_load_n, energy_absorbed_mj, crush_distance_mm, folds, mode, \
-             energy_balance_error, particles, steps, wall_time_s FROM summaries WHERE job_id = ?",
+             energy_balance_error, particles, steps, wall_time_s FROM summaries WHERE job_id = $1",
         )
         .bind(j.id.to_string())
         .fetch_one(&store.pool)
@@ -530,7 +556,7 @@ mod tests {
         let o = json.as_object_mut().unwrap();
         let mean = o.remove("mean_load_n").unwrap();
         o.insert("mean_load".into(), mean);
-        sqlx::query("UPDATE summaries SET summary_json = ? WHERE job_id = ?")
+        sqlx::query("UPDATE summaries SET summary_json = $1 WHERE job_id = $2")
             .bind(json.to_string())
             .bind(j.id.to_string())
             .execute(&store.pool)
@@ -547,17 +573,20 @@ mod tests {
 
     #[test]
     fn history_columns_match_the_migration() {
-        let sql = [
-            include_str!("../../../migrations/0001_jobs.sql"),
-            include_str!("../../../migrations/0004_energy_terms.sql"),
+        let sqlite = [
+            include_str!("../../../migrations/sqlite/0001_jobs.sql"),
+            include_str!("../../../migrations/sqlite/0004_energy_terms.sql"),
         ]
         .map(|s| s.replace("ADD COLUMN ", "    "))
         .concat();
-        for c in HistoryRow::COLUMNS {
-            assert!(
-                sql.contains(&format!("    {c} ")),
-                "history column {c} missing from the migrations"
-            );
+        let postgres = include_str!("../../../migrations/postgres/0001_jobs.sql");
+        for (backend, sql) in [("sqlite", sqlite.as_str()), ("postgres", postgres)] {
+            for c in HistoryRow::COLUMNS {
+                assert!(
+                    sql.contains(&format!("    {c} ")),
+                    "history column {c} missing from the {backend} migrations"
+                );
+            }
         }
     }
 }

@@ -335,6 +335,7 @@ mod tests {
             cancel_requested: false,
             progress_json: None,
             error: None,
+            node: None,
             summary,
         };
         let sweep = SweepRecord {

@@ -1,0 +1,131 @@
+//! The two databases the store runs on, and the few places where their SQL differs.
+//!
+//! Every statement of the store is written once, in the SQL both engines read (`$1` parameters,
+//! `RETURNING`, `COALESCE`, `||`), and runs through sqlx's `Any` driver. What differs is here:
+//! how a write transaction begins, the row locks PostgreSQL needs where SQLite's single writer
+//! already serialises, which errors mean "the database cannot be used now", and the migrations
+//! (`migrations/sqlite`, `migrations/postgres`).
+//!
+//! - **SQLite** (`sqlite://FILE`, the default): one file, one writer at a time. Every write
+//!   transaction is `BEGIN IMMEDIATE`, so it holds the write lock from its first statement and
+//!   nothing can interleave with it. The file's identity is watched ([`DbFile`]).
+//! - **PostgreSQL** (`postgres://…`): many nodes, many writers. Transactions are
+//!   `READ COMMITTED`; a claim takes its row with `FOR UPDATE SKIP LOCKED`; a write that reads a
+//!   job before it changes it locks the row (`FOR UPDATE`); submits, whose queue bound and
+//!   idempotency check read the whole queue, take one transaction-scoped advisory lock. The
+//!   migrator holds PostgreSQL's advisory lock, so nodes starting at once migrate once.
+
+use super::file::DbFile;
+use std::sync::Arc;
+
+/// Which database, with what only that one needs.
+#[derive(Debug)]
+pub(super) enum Backend {
+    Sqlite {
+        /// The database file as opened.
+        file: Arc<DbFile>,
+    },
+    Postgres {
+        /// The connection URL, for the listener's own connection.
+        url: String,
+    },
+}
+
+/// The advisory lock key that serialises submits on PostgreSQL ("crush" in ASCII).
+const SUBMIT_LOCK: i64 = 0x63_72_75_73_68;
+
+impl Backend {
+    /// The statement that opens a write transaction.
+    pub(super) fn begin(&self) -> &'static str {
+        match self {
+            Backend::Sqlite { .. } => "BEGIN IMMEDIATE",
+            Backend::Postgres { .. } => "BEGIN",
+        }
+    }
+
+    /// The statement, run first in a transaction, that makes it the only submit at a time
+    /// (SQLite: none, its write lock already does).
+    pub(super) fn submit_lock(&self) -> Option<String> {
+        match self {
+            Backend::Sqlite { .. } => None,
+            Backend::Postgres { .. } => {
+                Some(format!("SELECT pg_advisory_xact_lock({SUBMIT_LOCK})"))
+            }
+        }
+    }
+
+    /// Appended to a `SELECT` of rows the transaction is about to change.
+    pub(super) fn for_update(&self) -> &'static str {
+        match self {
+            Backend::Sqlite { .. } => "",
+            Backend::Postgres { .. } => " FOR UPDATE",
+        }
+    }
+
+    /// Appended to the claim's choice of the next queued job: rows another node is claiming
+    /// right now are passed over rather than waited for.
+    pub(super) fn skip_locked(&self) -> &'static str {
+        match self {
+            Backend::Sqlite { .. } => "",
+            Backend::Postgres { .. } => " FOR UPDATE SKIP LOCKED",
+        }
+    }
+
+    pub(super) fn name(&self) -> &'static str {
+        match self {
+            Backend::Sqlite { .. } => "sqlite",
+            Backend::Postgres { .. } => "postgres",
+        }
+    }
+
+    pub(super) fn file(&self) -> Option<&DbFile> {
+        match self {
+            Backend::Sqlite { file } => Some(file),
+            Backend::Postgres { .. } => None,
+        }
+    }
+}
+
+/// SQLite's primary result codes that say the database cannot be used now, not that the
+/// statement was wrong: BUSY 5, LOCKED 6, NOMEM 7, READONLY 8, IOERR 10, CORRUPT 11 (as a
+/// disk error reads), FULL 13, CANTOPEN 14, PROTOCOL 15.
+const SQLITE_UNAVAILABLE: [i64; 9] = [5, 6, 7, 8, 10, 11, 13, 14, 15];
+
+/// PostgreSQL SQLSTATE classes and codes that say the same: connection exceptions (08),
+/// insufficient resources such as a full disk (53), operator intervention such as a shutdown or
+/// a server still starting (57P), system and I/O errors (58), a read-only transaction (25006),
+/// serialization failures and deadlocks (40001, 40P01), a lock not available (55P03).
+const PG_UNAVAILABLE: [&str; 8] = ["08", "53", "57P", "58", "25006", "40001", "40P01", "55P03"];
+
+/// Whether a database error code (SQLite's number, or PostgreSQL's SQLSTATE when `postgres`;
+/// many SQLSTATEs are digits only) means the database is unusable for now rather than that
+/// the statement was wrong.
+pub(super) fn unavailable_code(code: &str, postgres: bool) -> bool {
+    if postgres {
+        PG_UNAVAILABLE.iter().any(|p| code.starts_with(p))
+    } else {
+        code.parse::<i64>()
+            .is_ok_and(|c| SQLITE_UNAVAILABLE.contains(&(c & 0xff)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_of_both_engines_that_heal_are_told_from_those_that_do_not() {
+        // SQLite: SQLITE_FULL, SQLITE_READONLY_DBMOVED (8 | 4 << 8), SQLITE_BUSY; a constraint not.
+        let sqlite = |c| unavailable_code(c, false);
+        assert!(sqlite("13") && sqlite("1032") && sqlite("5"));
+        assert!(!sqlite("19") && !sqlite("2067"));
+        // PostgreSQL: admin shutdown, cannot connect now, disk full, connection failure; a
+        // unique violation and a syntax error not.
+        for c in ["57P01", "57P03", "53100", "08006", "40001"] {
+            assert!(unavailable_code(c, true), "{c}");
+        }
+        for c in ["23505", "42601", "22P02"] {
+            assert!(!unavailable_code(c, true), "{c}");
+        }
+    }
+}

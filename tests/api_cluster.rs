@@ -1,0 +1,319 @@
+//! Several nodes on one PostgreSQL database (issue 14), against a real server: three nodes share
+//! 300 jobs, each run exactly once; a client of one node follows a run on another and a cancel
+//! sent to a third stops it; a node killed mid-run loses its job to another, which finishes it
+//! once, and the killed node rejoins. Run with `eval "$(bash .ci/postgres)"` (or any server
+//! named by `CRUSH_TEST_POSTGRES`); without one the tests show as ignored.
+
+mod common;
+
+use common::*;
+use futures::StreamExt;
+use serde_json::Value;
+use sqlx::{Connection, PgConnection};
+use std::collections::{HashMap, HashSet};
+use std::time::{Duration, Instant};
+
+async fn connect(db: &str) -> PgConnection {
+    PgConnection::connect(db).await.unwrap()
+}
+
+/// One job as the database holds it.
+#[derive(Debug, sqlx::FromRow)]
+struct Entry {
+    status: String,
+    attempts: i64,
+    /// Times its worker was lost.
+    lost: i64,
+    worker: Option<String>,
+    history: i64,
+    summaries: i64,
+}
+
+/// Every job of the database, by id.
+async fn ledger(db: &str) -> HashMap<String, Entry> {
+    let mut c = connect(db).await;
+    let rows: Vec<(String,)> = sqlx::query_as("SELECT id FROM jobs")
+        .fetch_all(&mut c)
+        .await
+        .unwrap();
+    let mut out = HashMap::new();
+    for (id,) in rows {
+        let entry: Entry = sqlx::query_as(
+            "SELECT status, attempts, lost, worker, \
+             (SELECT COUNT(*) FROM history h WHERE h.job_id = j.id) AS history, \
+             (SELECT COUNT(*) FROM summaries s WHERE s.job_id = j.id) AS summaries \
+             FROM jobs j WHERE id = $1",
+        )
+        .bind(&id)
+        .fetch_one(&mut c)
+        .await
+        .unwrap();
+        out.insert(id, entry);
+    }
+    out
+}
+
+async fn node(db: &str, name: &str, flags: &[&str]) -> TestApp {
+    let mut all = vec!["--node-name", name, "--heartbeat-ms", "200"];
+    all.extend_from_slice(flags);
+    TestApp::start_on(db, &all).await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn three_nodes_run_300_jobs_each_exactly_once_and_share_the_work() {
+    let db = fresh_postgres_database();
+    let flags = ["--concurrent-jobs", "1", "--max-queue", "1000"];
+    let nodes = [
+        node(&db, "n1", &flags).await,
+        node(&db, "n2", &flags).await,
+        node(&db, "n3", &flags).await,
+    ];
+    let case = tiny_case();
+    let submitted: Vec<String> = futures::stream::iter(0..300)
+        .map(|k| {
+            let app = &nodes[k % 3];
+            let case = &case;
+            async move { app.submit(case).await["id"].as_str().unwrap().to_string() }
+        })
+        .buffer_unordered(48)
+        .collect()
+        .await;
+    assert_eq!(submitted.iter().collect::<HashSet<_>>().len(), 300);
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let ledger = loop {
+        let ledger = ledger(&db).await;
+        if ledger.values().all(|j| j.status == "succeeded") {
+            break ledger;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "not all jobs ended: {:?}",
+            ledger
+                .values()
+                .filter(|j| j.status != "succeeded")
+                .take(3)
+                .collect::<Vec<_>>()
+        );
+        tokio::time::sleep(Duration::from_millis(250)).await;
+    };
+    assert_eq!(ledger.len(), 300);
+    let rows = ledger.values().next().unwrap().history;
+    assert!(rows > 10, "{rows} history rows");
+    let mut per_node: HashMap<String, usize> = HashMap::new();
+    for (id, job) in &ledger {
+        // One claim (a second would need the first lost or taken): no job ran on two nodes.
+        assert_eq!(
+            (job.attempts, job.lost),
+            (1, 0),
+            "job {id} was claimed more than once"
+        );
+        assert_eq!(
+            (job.history, job.summaries),
+            (rows, 1),
+            "job {id} stored other than once"
+        );
+        *per_node.entry(job.worker.clone().unwrap()).or_default() += 1;
+    }
+    assert_eq!(per_node.len(), 3, "every node ran jobs: {per_node:?}");
+    // Spread, not one node doing nearly all: each ran at least a tenth.
+    assert!(per_node.values().all(|n| *n >= 30), "{per_node:?}");
+    for app in nodes {
+        app.server.unwrap().stop().await.unwrap();
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_client_of_node_a_follows_a_run_on_node_b_and_a_cancel_sent_to_node_c_stops_it() {
+    let db = fresh_postgres_database();
+    let a = node(&db, "a", &["--concurrent-jobs", "0"]).await;
+    let b = node(&db, "b", &["--concurrent-jobs", "1"]).await;
+    let c = node(&db, "c", &["--concurrent-jobs", "0"]).await;
+
+    // A run of 500 history rows on B, followed from A from before it starts.
+    let id = a.submit(&medium_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let url = a.at(&format!("/v1/jobs/{id}/events"));
+    let (status, mut events) = SseReader::open(&a.client, &url, None).await;
+    assert_eq!(status, 200);
+    let mut progress = Vec::new();
+    let end = loop {
+        let e = events
+            .next(Duration::from_secs(60))
+            .await
+            .expect("the stream goes on to the final event");
+        match e.event.as_str() {
+            "progress" => progress.push(e.id.unwrap()),
+            "status" => {}
+            _ => break e,
+        }
+    };
+    assert_eq!(end.event, "done", "{}", end.data);
+    assert_eq!(end.json()["node"], "b");
+    assert_eq!(
+        progress.len(),
+        500,
+        "every progress event of the run on B reached A"
+    );
+    assert!(
+        progress.windows(2).all(|w| w[1] == w[0] + 1),
+        "consecutive ids, none lost or repeated"
+    );
+
+    // A long run on B, followed from A, cancelled through C.
+    let id = a.submit(&long_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let url = a.at(&format!("/v1/jobs/{id}/events"));
+    let (_, mut events) = SseReader::open(&a.client, &url, None).await;
+    loop {
+        let e = events.next(Duration::from_secs(60)).await.expect("events");
+        if e.event == "progress" {
+            break;
+        }
+    }
+    let asked = Instant::now();
+    let r = c.post(&format!("/v1/jobs/{id}/cancel")).await;
+    assert_eq!(r.status(), 202);
+    let end = loop {
+        let e = events
+            .next(Duration::from_secs(30))
+            .await
+            .expect("the stream ends with the cancel");
+        if e.event != "progress" {
+            break e;
+        }
+    };
+    let took = asked.elapsed();
+    assert_eq!(end.event, "cancelled", "{}", end.data);
+    // The signal reaches B at once; B's heartbeat (200 ms here) would see it too.
+    assert!(took < Duration::from_secs(3), "the cancel took {took:?}");
+    let job: Value = c.job(&id).await;
+    assert_eq!(
+        (job["status"].as_str(), job["node"].as_str()),
+        (Some("cancelled"), Some("b"))
+    );
+    for app in [a, b, c] {
+        app.server.unwrap().stop().await.unwrap();
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_and_it_rejoins() {
+    let db = fresh_postgres_database();
+    let flags = |name: &'static str| {
+        vec![
+            "--node-name",
+            name,
+            "--heartbeat-ms",
+            "200",
+            "--stale-after-s",
+            "2",
+        ]
+    };
+    let mut one = Child::start(&db, &flags("one"));
+    let client = client();
+    let mut case = medium_case();
+    case["loading"]["plate_speed_m_s"] = 10.into();
+    let r = client
+        .post(format!("{}/v1/jobs", one.url))
+        .json(&case)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202);
+    let id = r.json::<Value>().await.unwrap()["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    // Running on `one`, with progress stored.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        let job = get_json(&client, &format!("{}/v1/jobs/{id}", one.url)).await;
+        if job["progress"]["fraction"].as_f64().unwrap_or(0.0) > 0.0 {
+            assert_eq!(
+                (job["status"].as_str(), job["node"].as_str()),
+                (Some("running"), Some("one"))
+            );
+            break;
+        }
+        assert!(Instant::now() < deadline, "the run did not start: {job}");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let two = Child::start(&db, &flags("two"));
+    unsafe { libc::kill(one.pid(), libc::SIGKILL) };
+    one.exited_within(Duration::from_secs(5)).expect("killed");
+    let job = wait_for(
+        &client,
+        &two.url,
+        &id,
+        &["succeeded"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(job["node"], "two");
+    assert_eq!(job["attempts"], 2);
+    let ledger = ledger(&db).await;
+    let entry = &ledger[&id];
+    let history = entry.history;
+    assert_eq!((entry.lost, entry.summaries), (1, 1));
+    let (span,): (i64,) =
+        sqlx::query_as("SELECT COALESCE(MAX(row) + 1, 0) FROM history WHERE job_id = $1")
+            .bind(&id)
+            .fetch_one(&mut connect(&db).await)
+            .await
+            .unwrap();
+    assert!(
+        history >= 500 && history == span,
+        "one history of the 500 points asked: {history} rows numbered 0..{span}"
+    );
+
+    // The killed node comes back under its name and runs jobs again.
+    let one = Child::start(&db, &flags("one"));
+    assert_eq!(
+        client
+            .get(format!("{}/healthz", one.url))
+            .send()
+            .await
+            .unwrap()
+            .status(),
+        200
+    );
+    let mut ran_on_one = false;
+    for _ in 0..6 {
+        let r = client
+            .post(format!("{}/v1/jobs", one.url))
+            .json(&tiny_case())
+            .send()
+            .await
+            .unwrap();
+        let id = r.json::<Value>().await.unwrap()["id"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        let job = wait_for(
+            &client,
+            &one.url,
+            &id,
+            &["succeeded"],
+            Duration::from_secs(60),
+        )
+        .await;
+        ran_on_one |= job["node"] == "one";
+    }
+    assert!(ran_on_one, "the restarted node took part in the work");
+}

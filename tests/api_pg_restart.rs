@@ -1,0 +1,131 @@
+//! The PostgreSQL server restarted under load (issue 14): two nodes keep taking submits while
+//! the server goes down and comes back; they reconnect by themselves, every submit answered 202
+//! ends succeeded with one history and one summary, and a refused one is told 503 with
+//! `Retry-After`, never 500. In a test binary of its own, since it restarts the server every
+//! other PostgreSQL test uses. Needs `eval "$(bash .ci/postgres)"` (CRUSH_TEST_POSTGRES and
+//! CRUSH_TEST_PG_CTL).
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use sqlx::{Connection, PgConnection};
+use std::time::{Duration, Instant};
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_postgres_restart_under_load_loses_nothing_and_stores_nothing_twice() {
+    let pg_ctl = std::env::var("CRUSH_TEST_PG_CTL")
+        .expect("CRUSH_TEST_PG_CTL: the pg_ctl command of the test server (.ci/postgres)");
+    let db = fresh_postgres_database();
+    let flags = |name| {
+        [
+            "--node-name",
+            name,
+            "--heartbeat-ms",
+            "200",
+            "--stale-after-s",
+            "3",
+            "--concurrent-jobs",
+            "1",
+        ]
+    };
+    let nodes = [
+        TestApp::start_on(&db, &flags("n1")).await,
+        TestApp::start_on(&db, &flags("n2")).await,
+    ];
+    let restart = tokio::task::spawn_blocking(move || {
+        std::thread::sleep(Duration::from_millis(1500));
+        let status = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!("{pg_ctl} restart -m fast -w >/dev/null"))
+            .status()
+            .unwrap();
+        assert!(status.success(), "pg_ctl restart failed");
+        Instant::now()
+    });
+    let case = tiny_case();
+    let started = Instant::now();
+    let mut accepted = Vec::new();
+    let mut refused = 0;
+    let mut after_restart = 0;
+    let mut k = 0;
+    while started.elapsed() < Duration::from_secs(8) {
+        let app = &nodes[k % 2];
+        k += 1;
+        let r = app
+            .client
+            .post(app.at("/v1/jobs"))
+            .json(&case)
+            .send()
+            .await
+            .unwrap();
+        match r.status().as_u16() {
+            202 => {
+                accepted.push(
+                    r.json::<Value>().await.unwrap()["id"]
+                        .as_str()
+                        .unwrap()
+                        .to_string(),
+                );
+                if restart.is_finished() {
+                    after_restart += 1;
+                }
+            }
+            503 => {
+                assert!(r.headers().contains_key("retry-after"));
+                refused += 1;
+            }
+            other => panic!("submit answered {other}: {}", r.text().await.unwrap()),
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    restart.await.unwrap();
+    assert!(
+        after_restart > 0,
+        "no submit was accepted after the restart"
+    );
+    eprintln!(
+        "{} accepted, {refused} refused (503) around the restart",
+        accepted.len()
+    );
+    let mut c = PgConnection::connect(&db).await.unwrap();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let rows = loop {
+        let rows: Vec<(String, String, i64, i64, i64)> = sqlx::query_as(
+            "SELECT j.id, j.status, (SELECT COUNT(*) FROM history h WHERE h.job_id = j.id), \
+             (SELECT COALESCE(MAX(row) + 1, 0) FROM history h WHERE h.job_id = j.id), \
+             (SELECT COUNT(*) FROM summaries s WHERE s.job_id = j.id) FROM jobs j",
+        )
+        .fetch_all(&mut c)
+        .await
+        .unwrap();
+        if rows.iter().all(|r| r.1 == "succeeded") {
+            break rows;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "jobs did not all end after the restart"
+        );
+        tokio::time::sleep(Duration::from_millis(250)).await;
+    };
+    for id in &accepted {
+        assert!(
+            rows.iter().any(|r| &r.0 == id),
+            "accepted job {id} was lost"
+        );
+    }
+    let history = rows[0].2;
+    for (id, _, n, span, summaries) in &rows {
+        assert_eq!((*n, *span, *summaries), (history, history, 1), "job {id}");
+    }
+    for app in &nodes {
+        assert_eq!(app.get("/healthz").await.status(), 200);
+    }
+    for app in nodes {
+        app.server.unwrap().stop().await.unwrap();
+    }
+}
