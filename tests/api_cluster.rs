@@ -317,3 +317,38 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
     }
     assert!(ran_on_one, "the restarted node took part in the work");
 }
+
+/// `compose.yaml` starts what the README says: PostgreSQL and three crush nodes on it, each
+/// with a name of its own, and one published port. (Docker is not on the test machines, so this
+/// reads the file; it does not start it.)
+#[test]
+fn compose_starts_postgres_and_three_named_nodes_behind_one_port() {
+    let text = std::fs::read_to_string(repo_file("compose.yaml")).unwrap();
+    let mut doc: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    doc.apply_merge().unwrap();
+    let services = doc["services"].as_mapping().unwrap();
+    let mut names = HashSet::new();
+    let mut published = 0;
+    for (name, service) in services {
+        let name = name.as_str().unwrap();
+        published += service["ports"].as_sequence().map_or(0, |p| p.len());
+        if name == "postgres" {
+            continue;
+        }
+        let mut env = service["environment"].clone();
+        env.apply_merge().unwrap();
+        let url = env["DATABASE_URL"].as_str().unwrap();
+        assert!(
+            url.starts_with("postgres://") && url.contains("@postgres:"),
+            "{url}"
+        );
+        assert!(names.insert(env["CRUSH_NODE_NAME"].as_str().unwrap().to_string()));
+        assert_eq!(
+            service["depends_on"]["postgres"]["condition"].as_str(),
+            Some("service_healthy")
+        );
+    }
+    assert!(services.contains_key("postgres"));
+    assert_eq!(names.len(), 3, "three crush nodes with names of their own");
+    assert_eq!(published, 1, "one port for the page");
+}

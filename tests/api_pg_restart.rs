@@ -1,9 +1,9 @@
-//! The PostgreSQL server restarted under load (issue 14): two nodes keep taking submits while
-//! the server goes down and comes back; they reconnect by themselves, every submit answered 202
-//! ends succeeded with one history and one summary, and a refused one is told 503 with
-//! `Retry-After`, never 500. In a test binary of its own, since it restarts the server every
-//! other PostgreSQL test uses. Needs `eval "$(bash .ci/postgres)"` (CRUSH_TEST_POSTGRES and
-//! CRUSH_TEST_PG_CTL).
+//! The PostgreSQL server restarted under load, and stopped for a while (issue 14): nodes keep
+//! serving what needs no database, answer 503 with `Retry-After` where they need it (never
+//! 500), reconnect by themselves, and every submit answered 202 ends succeeded with one history
+//! and one summary. In a test binary of its own, since it stops the server every other
+//! PostgreSQL test uses; the two tests here take turns. Needs `eval "$(bash .ci/postgres)"`
+//! (CRUSH_TEST_POSTGRES and CRUSH_TEST_PG_CTL).
 
 mod common;
 
@@ -12,14 +12,88 @@ use serde_json::Value;
 use sqlx::{Connection, PgConnection};
 use std::time::{Duration, Instant};
 
+/// One test at a time stops the server.
+static SERVER: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+
+/// Runs `pg_ctl ACTION` on the test server.
+fn control(action: &str) {
+    let pg_ctl = std::env::var("CRUSH_TEST_PG_CTL")
+        .expect("CRUSH_TEST_PG_CTL: the pg_ctl command of the test server (.ci/postgres)");
+    let status = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!("{pg_ctl} {action} >/dev/null"))
+        .status()
+        .unwrap();
+    assert!(status.success(), "pg_ctl {action} failed");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_node_that_loses_its_database_answers_503_serves_the_rest_and_reconnects() {
+    let _turn = SERVER.lock().await;
+    let db = fresh_postgres_database();
+    let app = TestApp::start_on(&db, &["--node-name", "alone", "--heartbeat-ms", "200"]).await;
+    let id = app.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    app.wait_for(&id, &["succeeded"], Duration::from_secs(30))
+        .await;
+    control("stop -m fast -w");
+    let down = Instant::now();
+    let r = app.get("/healthz").await;
+    assert_eq!(r.status(), 503);
+    assert!(r.headers().contains_key("retry-after"));
+    let r = app
+        .client
+        .post(app.at("/v1/jobs"))
+        .json(&tiny_case())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 503, "{}", r.text().await.unwrap());
+    let r = app.get(&format!("/v1/jobs/{id}")).await;
+    assert_eq!(r.status(), 503);
+    assert!(r.headers().contains_key("retry-after"));
+    // What needs no database goes on: the page and the estimate.
+    assert_eq!(app.get("/").await.status(), 200);
+    let r = app
+        .client
+        .post(app.at("/v1/estimate"))
+        .json(&tiny_case())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    eprintln!("503s answered within {:?} of the stop", down.elapsed());
+    control("start -w");
+    // Back by itself: no restart of the node.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while app.get("/healthz").await.status() != 200 {
+        assert!(Instant::now() < deadline, "the node did not reconnect");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let again = app.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let job = app
+        .wait_for(&again, &["succeeded"], Duration::from_secs(30))
+        .await;
+    assert_eq!(job["node"], "alone");
+    app.server.unwrap().stop().await.unwrap();
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 #[cfg_attr(
     not(crush_postgres),
     ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
 )]
 async fn a_postgres_restart_under_load_loses_nothing_and_stores_nothing_twice() {
-    let pg_ctl = std::env::var("CRUSH_TEST_PG_CTL")
-        .expect("CRUSH_TEST_PG_CTL: the pg_ctl command of the test server (.ci/postgres)");
+    let _turn = SERVER.lock().await;
     let db = fresh_postgres_database();
     let flags = |name| {
         [
@@ -37,15 +111,9 @@ async fn a_postgres_restart_under_load_loses_nothing_and_stores_nothing_twice() 
         TestApp::start_on(&db, &flags("n1")).await,
         TestApp::start_on(&db, &flags("n2")).await,
     ];
-    let restart = tokio::task::spawn_blocking(move || {
+    let restart = tokio::task::spawn_blocking(|| {
         std::thread::sleep(Duration::from_millis(1500));
-        let status = std::process::Command::new("sh")
-            .arg("-c")
-            .arg(format!("{pg_ctl} restart -m fast -w >/dev/null"))
-            .status()
-            .unwrap();
-        assert!(status.success(), "pg_ctl restart failed");
-        Instant::now()
+        control("restart -m fast -w");
     });
     let case = tiny_case();
     let started = Instant::now();

@@ -83,6 +83,18 @@ pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
          # TYPE crush_node gauge\ncrush_node{{node=\"{node}\",backend=\"{}\"}} 1",
         s.store.backend_name()
     );
+    if let Some((values, n)) = s.workers.claim_quantiles(&[0.5, 0.99]) {
+        let _ = writeln!(
+            out,
+            "# HELP crush_claim_seconds Time to claim a job, over this node's last {n} claims \
+             that got one (at most {}).\n# TYPE crush_claim_seconds gauge\n\
+             crush_claim_seconds{{quantile=\"0.5\"}} {}\n\
+             crush_claim_seconds{{quantile=\"0.99\"}} {}",
+            crate::service::worker::CLAIM_SAMPLES,
+            values[0],
+            values[1]
+        );
+    }
     let total = s.workers.particle_steps_total.load(Ordering::Relaxed);
     let _ = writeln!(
         out,

@@ -179,7 +179,10 @@ impl Store {
         let sqlite = matches!(backend, Backend::Sqlite { .. });
         let pool = AnyPoolOptions::new()
             .max_connections(if sqlite { 8 } else { 10 })
-            .acquire_timeout(Duration::from_secs(10))
+            // Waiting for a connection: on SQLite behind other writers (each waits for the
+            // write lock itself, up to its busy timeout); on PostgreSQL a server that is down
+            // shows here, and a client should hear 503 soon rather than after 10 s.
+            .acquire_timeout(Duration::from_secs(if sqlite { 10 } else { 3 }))
             .after_connect(move |conn, _| {
                 Box::pin(async move {
                     if sqlite {
