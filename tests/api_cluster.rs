@@ -229,17 +229,7 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
     let client = client();
     let mut case = medium_case();
     case["loading"]["plate_speed_m_s"] = 10.into();
-    let r = client
-        .post(format!("{}/v1/jobs", one.url))
-        .json(&case)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 202);
-    let id = r.json::<Value>().await.unwrap()["id"]
-        .as_str()
-        .unwrap()
-        .to_string();
+    let id = submit_to(&client, &one.url, &case).await;
     // Running on `one`, with progress stored.
     let deadline = Instant::now() + Duration::from_secs(30);
     loop {
@@ -295,16 +285,7 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
     );
     let mut ran_on_one = false;
     for _ in 0..6 {
-        let r = client
-            .post(format!("{}/v1/jobs", one.url))
-            .json(&tiny_case())
-            .send()
-            .await
-            .unwrap();
-        let id = r.json::<Value>().await.unwrap()["id"]
-            .as_str()
-            .unwrap()
-            .to_string();
+        let id = submit_to(&client, &one.url, &tiny_case()).await;
         let job = wait_for(
             &client,
             &one.url,

@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use futures::StreamExt;
-use serde_json::{json, Value};
+use serde_json::json;
 use std::time::Duration;
 
 /// Peak resident memory of a process so far, bytes (`VmHWM`).
@@ -37,17 +37,7 @@ async fn twenty_concurrent_state_vtu_downloads_stay_under_a_memory_bound() {
     });
     let id = {
         let runner = Child::start(&db, &[]);
-        let r = client
-            .post(format!("{}/v1/jobs", runner.url))
-            .json(&case)
-            .send()
-            .await
-            .unwrap();
-        assert_eq!(r.status(), 202);
-        let id = r.json::<Value>().await.unwrap()["id"]
-            .as_str()
-            .unwrap()
-            .to_string();
+        let id = submit_to(&client, &runner.url, &case).await;
         let job = wait_for(
             &client,
             &runner.url,

@@ -5,7 +5,6 @@
 mod common;
 
 use common::*;
-use serde_json::Value;
 use std::time::Duration;
 
 /// Waits on the event stream until the job reports progress.
@@ -33,17 +32,7 @@ async fn a_server_killed_mid_run_finishes_the_job_exactly_once_after_restart() {
     let client = client();
     let quick = ["--heartbeat-ms", "200", "--stale-after-s", "1"];
     let mut first = Child::start(&db, &quick);
-    let r = client
-        .post(format!("{}/v1/jobs", first.url))
-        .json(&medium_case())
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 202);
-    let id = r.json::<Value>().await.unwrap()["id"]
-        .as_str()
-        .unwrap()
-        .to_string();
+    let id = submit_to(&client, &first.url, &medium_case()).await;
     wait_for_progress(&client, &first.url, &id).await;
     first.process.kill().unwrap(); // SIGKILL
     first.process.wait().unwrap();
@@ -87,16 +76,7 @@ async fn sigterm_requeues_the_running_job_and_does_not_hang_on_event_streams() {
         &db,
         &["--shutdown-grace-s", "0.3", "--sse-keep-alive-s", "60"],
     );
-    let r = client
-        .post(format!("{}/v1/jobs", server.url))
-        .json(&long_case())
-        .send()
-        .await
-        .unwrap();
-    let id = r.json::<Value>().await.unwrap()["id"]
-        .as_str()
-        .unwrap()
-        .to_string();
+    let id = submit_to(&client, &server.url, &long_case()).await;
     wait_for_progress(&client, &server.url, &id).await;
     let (status, mut stream) = SseReader::open(
         &client,

@@ -371,3 +371,18 @@ pub fn temp_db() -> (tempfile::TempDir, String) {
 pub fn repo_file(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
 }
+
+/// Submits a case to the server at `base`; panics unless it is accepted. Returns the job's id.
+pub async fn submit_to(client: &reqwest::Client, base: &str, case: &Value) -> String {
+    let r = client
+        .post(format!("{base}/v1/jobs"))
+        .json(case)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202, "{}", r.text().await.unwrap());
+    r.json::<Value>().await.unwrap()["id"]
+        .as_str()
+        .unwrap()
+        .to_string()
+}
