@@ -67,11 +67,14 @@ async fn node(db: &str, name: &str, flags: &[&str]) -> TestApp {
 async fn three_nodes_run_300_jobs_each_exactly_once_and_share_the_work() {
     let db = fresh_postgres_database();
     let flags = ["--concurrent-jobs", "1", "--max-queue", "1000"];
-    let nodes = [
-        node(&db, "n1", &flags).await,
-        node(&db, "n2", &flags).await,
-        node(&db, "n3", &flags).await,
-    ];
+    // All three start at once on the empty database: the migrations run once, under
+    // PostgreSQL's advisory lock, whichever node gets it first.
+    let (n1, n2, n3) = tokio::join!(
+        node(&db, "n1", &flags),
+        node(&db, "n2", &flags),
+        node(&db, "n3", &flags)
+    );
+    let nodes = [n1, n2, n3];
     let case = tiny_case();
     let submitted: Vec<String> = futures::stream::iter(0..300)
         .map(|k| {
