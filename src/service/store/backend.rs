@@ -31,9 +31,6 @@ pub(super) enum Backend {
     },
 }
 
-/// The advisory lock key that serialises submits on PostgreSQL ("crush" in ASCII).
-const SUBMIT_LOCK: i64 = 0x63_72_75_73_68;
-
 impl Backend {
     /// The statement that opens a write transaction.
     pub(super) fn begin(&self) -> &'static str {
@@ -44,13 +41,12 @@ impl Backend {
     }
 
     /// The statement, run first in a transaction, that makes it the only submit at a time
-    /// (SQLite: none, its write lock already does).
-    pub(super) fn submit_lock(&self) -> Option<String> {
+    /// (SQLite: none, its write lock already does). The advisory lock's key is "crush" in
+    /// ASCII (0x6372757368).
+    pub(super) fn submit_lock(&self) -> Option<&'static str> {
         match self {
             Backend::Sqlite { .. } => None,
-            Backend::Postgres { .. } => {
-                Some(format!("SELECT pg_advisory_xact_lock({SUBMIT_LOCK})"))
-            }
+            Backend::Postgres { .. } => Some("SELECT pg_advisory_xact_lock(427122062184)"),
         }
     }
 

@@ -235,7 +235,7 @@ impl Store {
     async fn write_submit(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>> {
         let mut tx = self.write().await?;
         if let Some(lock) = self.backend.submit_lock() {
-            sqlx::query(&lock).execute(&mut *tx).await?;
+            sqlx::query(lock).execute(&mut *tx).await?;
         }
         Ok(tx)
     }

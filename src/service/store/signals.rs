@@ -141,8 +141,13 @@ async fn listen_until_lost(
     let mut listener = sqlx::postgres::PgListener::connect(url).await?;
     listener.listen(CHANNEL).await?;
     loop {
+        let received = tokio::select! {
+            r = listener.try_recv() => r?,
+            // The node stopped: close the connection rather than wait for a notification.
+            _ = tx.closed() => return Ok(()),
+        };
         // `None`: the connection was lost and has been made again (and listens again).
-        let Some(n) = listener.try_recv().await? else {
+        let Some(n) = received else {
             tracing::warn!("the connection listening for other nodes was lost and made again");
             continue;
         };
