@@ -109,7 +109,8 @@ export async function renderJob(main, id) {
   main.replaceChildren(
     el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null,
       el("a", { href: `#/new/${job.id}`, id: "reuse", class: "small" }, "new case from this one")),
-    el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}`,
+    el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}` +
+      (job.node ? ` · node ${job.node}` : ""),
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
     el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
     below);
