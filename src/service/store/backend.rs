@@ -16,7 +16,9 @@
 //!   migrator holds PostgreSQL's advisory lock, so nodes starting at once migrate once.
 
 use super::file::DbFile;
+use sqlx::migrate::Migrator;
 use std::sync::Arc;
+use std::time::Duration;
 
 /// Which database, with what only that one needs.
 #[derive(Debug)]
@@ -64,6 +66,45 @@ impl Backend {
         match self {
             Backend::Sqlite { .. } => "",
             Backend::Postgres { .. } => " FOR UPDATE SKIP LOCKED",
+        }
+    }
+
+    /// Pooled connections of one node.
+    pub(super) fn pool_size(&self) -> u32 {
+        match self {
+            Backend::Sqlite { .. } => 8,
+            Backend::Postgres { .. } => 10,
+        }
+    }
+
+    /// How long a statement waits for a pooled connection. On SQLite it waits behind other
+    /// writers (each waiting for the write lock, up to its busy timeout); on PostgreSQL a
+    /// server that is down shows here, and a client should hear 503 soon, not after 10 s.
+    pub(super) fn acquire_timeout(&self) -> Duration {
+        match self {
+            Backend::Sqlite { .. } => Duration::from_secs(10),
+            Backend::Postgres { .. } => Duration::from_secs(3),
+        }
+    }
+
+    /// Run on every new connection. SQLite's WAL mode is not here: it is a property of the
+    /// file, set when the store creates it.
+    pub(super) fn connection_pragmas(&self) -> &'static [&'static str] {
+        match self {
+            Backend::Sqlite { .. } => &[
+                "PRAGMA synchronous = NORMAL",
+                "PRAGMA foreign_keys = ON",
+                "PRAGMA busy_timeout = 10000",
+            ],
+            Backend::Postgres { .. } => &[],
+        }
+    }
+
+    /// This backend's migrations (`migrations/sqlite` or `migrations/postgres`).
+    pub(super) fn migrator(&self) -> Migrator {
+        match self {
+            Backend::Sqlite { .. } => sqlx::migrate!("./migrations/sqlite"),
+            Backend::Postgres { .. } => sqlx::migrate!("./migrations/postgres"),
         }
     }
 

@@ -176,20 +176,14 @@ impl Store {
                 url.split(':').next().unwrap_or("")
             )));
         };
-        let sqlite = matches!(backend, Backend::Sqlite { .. });
+        let pragmas = backend.connection_pragmas();
         let pool = AnyPoolOptions::new()
-            .max_connections(if sqlite { 8 } else { 10 })
-            // Waiting for a connection: on SQLite behind other writers (each waits for the
-            // write lock itself, up to its busy timeout); on PostgreSQL a server that is down
-            // shows here, and a client should hear 503 soon rather than after 10 s.
-            .acquire_timeout(Duration::from_secs(if sqlite { 10 } else { 3 }))
+            .max_connections(backend.pool_size())
+            .acquire_timeout(backend.acquire_timeout())
             .after_connect(move |conn, _| {
                 Box::pin(async move {
-                    if sqlite {
-                        // Per connection; WAL itself was set on the file by `create_sqlite`.
-                        conn.execute("PRAGMA synchronous = NORMAL").await?;
-                        conn.execute("PRAGMA foreign_keys = ON").await?;
-                        conn.execute("PRAGMA busy_timeout = 10000").await?;
+                    for pragma in pragmas {
+                        conn.execute(*pragma).await?;
                     }
                     Ok(())
                 })
@@ -198,11 +192,7 @@ impl Store {
             .before_acquire(|_, meta| Box::pin(async move { Ok(fresh_enough(meta.age)) }))
             .connect(url)
             .await?;
-        if sqlite {
-            sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
-        } else {
-            sqlx::migrate!("./migrations/postgres").run(&pool).await?;
-        }
+        backend.migrator().run(&pool).await?;
         Ok(Store {
             pool,
             backend: Arc::new(backend),
