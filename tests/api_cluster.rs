@@ -206,6 +206,17 @@ async fn a_client_of_node_a_follows_a_run_on_node_b_and_a_cancel_sent_to_node_c_
         (job["status"].as_str(), job["node"].as_str()),
         (Some("cancelled"), Some("b"))
     );
+    // /metrics names the node and its store; b, which ran both jobs, has claim latencies.
+    let metrics = c.get("/metrics").await.text().await.unwrap();
+    assert!(
+        metrics.contains("crush_node{node=\"c\",backend=\"postgres\"} 1"),
+        "{metrics}"
+    );
+    let metrics = b.get("/metrics").await.text().await.unwrap();
+    assert!(
+        metrics.contains("crush_claim_seconds{quantile=\"0.99\"}"),
+        "{metrics}"
+    );
     for app in [a, b, c] {
         app.server.unwrap().stop().await.unwrap();
     }
