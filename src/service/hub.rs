@@ -170,6 +170,7 @@ impl Hub {
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
                 .push(event.clone());
+            // An error only means nobody is listening.
             let _ = ch.tx.send(event);
         }
         drop(ch);
@@ -199,16 +200,8 @@ impl Hub {
     /// Sends a job's final event to its listeners, whoever ran it (the run's own publisher may
     /// be gone, e.g. with a panicking solver).
     pub fn announce(self: &Arc<Self>, id: Uuid, event: Event) {
-        let ch = self.channel(id);
-        ch.recent
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(event.clone());
         self.forward(id, &event);
-        // An error only means nobody is listening.
-        let _ = ch.tx.send(event);
-        drop(ch);
-        self.release(id);
+        self.deliver(id, vec![event]);
     }
 
     /// Listens to a job; the current claim's events so far come along.

@@ -45,7 +45,6 @@ pub struct Workers {
     store: Store,
     hub: Arc<Hub>,
     config: WorkerConfig,
-    instance: String,
     running: Mutex<HashMap<Uuid, Arc<Running>>>,
     wake: Notify,
     shutdown: watch::Receiver<bool>,
@@ -68,8 +67,7 @@ impl Workers {
         Arc::new(Workers {
             store,
             hub,
-            config: config.clone(),
-            instance: config.node.clone(),
+            config,
             running: Mutex::new(HashMap::new()),
             wake: Notify::new(),
             shutdown,
@@ -213,7 +211,7 @@ impl Workers {
         let mut failures = 0u32;
         while !*shutdown.borrow() {
             let asked = Instant::now();
-            let claimed = self.store.claim(&self.instance).await;
+            let claimed = self.store.claim(&self.config.node).await;
             failures = if claimed.is_err() { failures + 1 } else { 0 };
             match claimed {
                 Ok(Some(job)) => {
