@@ -1,16 +1,27 @@
 //! Folds counted from the deformed shape, as a person looking at the sections counts them: the
-//! outward lobes of the wall along the crushed tube. Units: mm.
+//! outward lobes along a wall line from one plate to the other. Units: mm.
 //!
-//! Method (axial loading; a lateral crush flattens, it does not fold): the final particle
-//! positions are binned by their *current* axial coordinate into slices one particle spacing
-//! thick. Per slice, the wall's outermost reach is the largest distance of a particle from the
-//! slice's centroid (so a tube that drifted sideways is measured about its own centre line),
-//! less the undeformed outer radius (d + t)/2. Along the axis this profile rises at each fold's
-//! outer hinge and falls between folds; a ring fold and a layer of diamond lobes both reach
-//! out, at every angle or at the lobes' corners. A fold is a bump that reaches at least
-//! [`FOLD_REACH_T`] wall thicknesses out, with a rise of at least [`FOLD_PROMINENCE_T`] before
-//! it and a fall of as much after (hysteresis, as in the load-drop counter); the plates count
-//! as the undeformed surface, so a fold flattened against a plate counts too. A three-slice running median first removes single-particle outliers.
+//! Method (axial loading; a lateral crush flattens, it does not fold): the wall is cut into
+//! lines in *material* coordinates — slices one particle spacing thick by their position
+//! before the crush, and [`SECTORS`] sectors around the axis by their angle before the crush.
+//! Along each line, the wall's outermost reach per slice is the largest distance of a particle
+//! of that slice and sector from the slice's current centroid (so a tube that drifted sideways
+//! is measured about its own centre line), less the undeformed outer radius (d + t)/2. The
+//! profile rises at each fold's outer hinge and falls at its inner hinge. A fold is a bump that
+//! reaches at least [`FOLD_REACH_T`] wall thicknesses out, with a rise of at least
+//! [`FOLD_PROMINENCE_T`] before it and a fall of as much after (hysteresis, as in the
+//! load-drop counter); the plates count as the undeformed surface, so a fold flattened against
+//! a plate counts too. A three-slice running median first removes single-particle outliers.
+//! A section through the axis holds two opposite lines, and shows the folds of the one with
+//! more (a tube that leans folds on one side only); the tube's count is the lower median over
+//! its [`SECTORS`]/2 sections: what most sections show.
+//!
+//! Why material coordinates: once folds are pressed together, the lobes of neighbouring folds
+//! lie at the same height, and a profile over the *current* height no longer falls between
+//! them (the diamond runs at t 1.27 mm read 1 and 2 folds where their sections show about 3
+//! and 4). Along the material the folds stay apart however tightly they are packed. Why lines
+//! and not the whole ring: a slice's reach over all angles stays out wherever any lobe of an
+//! inclined diamond hinge is, and the same runs then read 5 and 6.
 //!
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
@@ -29,6 +40,11 @@ pub const FOLD_PROMINENCE_T: Real = 0.5;
 /// 1.6–1.8 mm (0.5–0.56 t) beside its one fold of 7 mm. One wall thickness lies between.
 pub const FOLD_REACH_T: Real = 1.0;
 
+/// How many wall lines around the axis are counted (an even number: opposite lines make a
+/// section): sectors of 22.5°, as narrow as a section and wide enough to hold particles at
+/// n = 2 (44 around the axial example's ring).
+pub const SECTORS: usize = 16;
+
 /// The number of folds of an axial crush from its final shape; 0 for lateral loading.
 pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
     let spec = case.spec();
@@ -36,39 +52,74 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         return 0;
     }
     let (t, d) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm);
-    let profile = outer_profile(&snapshot.position_mm, case.spacing_mm(), 0.5 * (d + t));
-    count_bumps(&median3(&profile), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t)
+    let lines = wall_lines(snapshot, case.spacing_mm(), 0.5 * (d + t));
+    let count = |line: &Vec<Real>| match line.is_empty() {
+        true => None,
+        false => Some(count_bumps(
+            &median3(line),
+            FOLD_PROMINENCE_T * t,
+            FOLD_REACH_T * t,
+        )),
+    };
+    let (left, right) = lines.split_at(lines.len() / 2);
+    let mut sections: Vec<u32> = left
+        .iter()
+        .zip(right)
+        .filter_map(|(a, b)| count(a).max(count(b)))
+        .collect();
+    sections.sort_unstable();
+    sections
+        .get(sections.len().saturating_sub(1) / 2)
+        .copied()
+        .unwrap_or(0)
 }
 
-/// Per slice of width `h` along z (bottom to top, empty slices left out): the largest distance
-/// of a particle from the slice's centroid in x–y, less `outer`.
-fn outer_profile(position: &[[Real; 3]], h: Real, outer: Real) -> Vec<Real> {
-    let finite = || position.iter().filter(|p| p.iter().all(|v| v.is_finite()));
-    let (lo, hi) = finite().fold((Real::MAX, Real::MIN), |(lo, hi), p| {
-        (lo.min(p[2]), hi.max(p[2]))
-    });
+/// Per sector of the material angle, per material slice of width `h` along z (bottom to top,
+/// empty slices left out): the largest distance in x–y of the slice's particles in that
+/// sector from the slice's current centroid, less `outer`.
+fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
+    let pairs = || {
+        snapshot
+            .initial_mm
+            .iter()
+            .zip(&snapshot.position_mm)
+            .filter(|(a, b)| a.iter().chain(b.iter()).all(|v| v.is_finite()))
+    };
+    let (mut lo, mut hi, mut ax, mut ay, mut n) = (Real::MAX, Real::MIN, 0.0, 0.0, 0usize);
+    for (a, _) in pairs() {
+        (lo, hi, ax, ay, n) = (lo.min(a[2]), hi.max(a[2]), ax + a[0], ay + a[1], n + 1);
+    }
     if !(lo <= hi && h > 0.0) {
         return Vec::new();
     }
-    let count = ((hi - lo) / h) as usize + 1;
-    let slice = |p: &[Real; 3]| (((p[2] - lo) / h) as usize).min(count - 1);
-    let mut sums = vec![(0usize, 0.0, 0.0); count];
-    for p in finite() {
-        let s = &mut sums[slice(p)];
-        *s = (s.0 + 1, s.1 + p[0], s.2 + p[1]);
+    let (ax, ay) = (ax / n as Real, ay / n as Real);
+    let slices = ((hi - lo) / h).round() as usize + 1;
+    let slice = |a: &[Real; 3]| (((a[2] - lo) / h).round() as usize).min(slices - 1);
+    let sector = |a: &[Real; 3]| {
+        let turn = (a[1] - ay).atan2(a[0] - ax) / std::f64::consts::TAU + 0.5;
+        ((turn * SECTORS as Real) as usize).min(SECTORS - 1)
+    };
+    let mut centroid = vec![(0usize, 0.0, 0.0); slices];
+    for (a, p) in pairs() {
+        let c = &mut centroid[slice(a)];
+        *c = (c.0 + 1, c.1 + p[0], c.2 + p[1]);
     }
-    let mut reach = vec![Real::MIN; count];
-    for p in finite() {
-        let k = slice(p);
-        let (n, x, y) = sums[k];
-        let r = (p[0] - x / n as Real).hypot(p[1] - y / n as Real);
-        reach[k] = reach[k].max(r);
+    let mut reach = vec![vec![Real::MIN; slices]; SECTORS];
+    for (a, p) in pairs() {
+        let k = slice(a);
+        let (m, x, y) = centroid[k];
+        let r = (p[0] - x / m as Real).hypot(p[1] - y / m as Real);
+        let cell = &mut reach[sector(a)][k];
+        *cell = cell.max(r);
     }
     reach
         .into_iter()
-        .zip(&sums)
-        .filter(|(_, s)| s.0 > 0)
-        .map(|(r, _)| r - outer)
+        .map(|line| {
+            line.into_iter()
+                .filter(|&r| r > Real::MIN)
+                .map(|r| r - outer)
+                .collect()
+        })
         .collect()
 }
 
@@ -164,20 +215,46 @@ mod tests {
         assert_eq!(count_folds(&case(), &wall(36.0, |_, _| 0.0)), 0);
     }
 
-    /// Diamond layers: two lobes per layer, each layer turned by 90° from the last. At a fixed
-    /// angle only every other layer reaches out; the outermost reach shows every layer.
+    /// Diamond layers: every layer folds out all round, furthest at its two lobe corners, each
+    /// layer's corners turned by 90° from the last (12 mm of wall a layer).
+    fn diamond(z: Real, th: Real) -> Real {
+        let layer = (z / 12.0) as usize;
+        let turn = if layer.is_multiple_of(2) {
+            0.0
+        } else {
+            PI / 2.0
+        };
+        (5.0 + 1.5 * (2.0 * (th - turn)).cos()) * (PI * (z % 12.0) / 12.0).sin()
+    }
+
     #[test]
     fn diamond_layers_are_counted_once_each() {
-        let snap = wall(48.0, |z, th| {
-            let layer = (z / 12.0) as usize;
-            let turn = if layer.is_multiple_of(2) {
-                0.0
-            } else {
-                PI / 2.0
-            };
-            4.0 * (2.0 * (th - turn)).cos() * (PI * (z % 12.0) / 12.0).sin()
-        });
-        assert_eq!(count_folds(&case(), &snap), 4);
+        assert_eq!(count_folds(&case(), &wall(48.0, diamond)), 4);
+    }
+
+    /// The same four layers pressed together: each layer's 12 mm of wall spans 6 mm of height
+    /// and starts 3 mm above the last, so at every height two layers' lobes overlap and the
+    /// outer reach over the current height no longer falls between them. Counted along the
+    /// material, they stay four.
+    #[test]
+    fn packed_diamond_layers_still_count_once_each() {
+        let snap = wall(48.0, diamond);
+        let packed = Snapshot {
+            position_mm: snap
+                .position_mm
+                .iter()
+                .zip(&snap.initial_mm)
+                .map(|(p, a)| {
+                    [
+                        p[0],
+                        p[1],
+                        3.0 * (a[2] / 12.0).floor() + 0.5 * (a[2] % 12.0),
+                    ]
+                })
+                .collect(),
+            ..snap
+        };
+        assert_eq!(count_folds(&case(), &packed), 4);
     }
 
     /// A fold pressed flat against a plate at the end of the tube counts: the plate stands for
