@@ -2,6 +2,7 @@
 //! cancellation and blow-up diagnosis. Coarse (n = 2, a few mm of crush) to stay fast in CI.
 
 use crush::solver::scene::Scene;
+use crush::solver::shape::Gimp;
 use crush::solver::step::Simulation;
 use crush::solver::{run, Case, Limits, RunOutput, SolveError};
 use std::sync::atomic::AtomicBool;
@@ -138,7 +139,7 @@ fn same_seed_gives_identical_results_on_any_thread_count() {
 #[test]
 fn no_particle_crosses_a_plate() {
     let c = coarse_axial();
-    let mut sim = Simulation::new(Scene::from_case(&c));
+    let mut sim = Simulation::<Gimp>::new(Scene::from_case(&c));
     while sim.time < 0.4 {
         sim.step(1.0).unwrap();
         let (top, bottom) = (sim.scene.plates[0].z, sim.scene.plates[1].z);
@@ -184,7 +185,7 @@ fn cancel_stops_the_run() {
 fn a_blow_up_is_diagnosed_with_the_particle_and_step() {
     let mut scene = Scene::from_case(&coarse_axial());
     scene.particles.v[17].x = f64::NAN;
-    let mut sim = Simulation::new(scene);
+    let mut sim = Simulation::<Gimp>::new(scene);
     let err = (0..5)
         .map(|_| sim.step(1.0))
         .find_map(Result::err)

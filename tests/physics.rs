@@ -1,17 +1,17 @@
 //! Physics of the engine against closed forms and conservation laws. Each test states its
 //! tolerance and why. Scenes are small so that the suite stays fast in CI.
 
-use crush::solver::case::ShapeKind;
 use crush::solver::material::{von_mises, Elastoplastic};
 use crush::solver::particles::Particles;
 use crush::solver::scene::{Plate, Ramp, Scene};
+use crush::solver::shape::{Gimp, Linear, Stencil};
 use crush::solver::step::Simulation;
 use nalgebra::Vector3;
 
 const RHO: f64 = 1.38e-3; // g/mm³ (PVC)
 
 /// A box of nx × ny × nz particles at spacing h (mm), cell 2h, no plates.
-fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind) -> Scene {
+fn block(n: [usize; 3], h: f64, material: Elastoplastic) -> Scene {
     let mut p = Particles::default();
     for i in 0..n[0] {
         for j in 0..n[1] {
@@ -33,7 +33,6 @@ fn block(n: [usize; 3], h: f64, material: Elastoplastic, shape: ShapeKind) -> Sc
         friction: 0.0,
         cell: 2.0 * h,
         half_size: 0.5 * h,
-        shape,
         cfl: 0.5,
         average_volumetric: true,
         domain: [[-1e3; 3], [1e3; 3]],
@@ -45,7 +44,7 @@ fn pvc() -> Elastoplastic {
     Elastoplastic::new(3378.4, 0.42, 65.5)
 }
 
-fn max_stress(sim: &Simulation) -> f64 {
+fn max_stress<S: Stencil>(sim: &Simulation<S>) -> f64 {
     sim.scene
         .particles
         .stress
@@ -54,18 +53,32 @@ fn max_stress(sim: &Simulation) -> f64 {
         .fold(0.0f64, |a, &b| a.max(b.abs()))
 }
 
-const SHAPES: [ShapeKind; 2] = [ShapeKind::Linear, ShapeKind::Gimp];
+/// Runs the block once per shape function, with `S` its type and `shape` its name.
+macro_rules! each_shape {
+    (|$S:ident, $shape:ident| $body:block) => {{
+        {
+            type $S = Linear;
+            let $shape = "linear";
+            $body
+        }
+        {
+            type $S = Gimp;
+            let $shape = "gimp";
+            $body
+        }
+    }};
+}
 
 /// A uniform velocity has zero gradient: Σ_i v ⊗ ∇N_i = v ⊗ Σ_i ∇N_i = 0 to round-off, so no
 /// stress may appear. Round-off after 300 steps: ~1e-13 · E · (v dt / cell) · steps ≪ 1e-9 MPa.
 #[test]
 fn rigid_translation_gives_zero_stress() {
-    for shape in SHAPES {
-        let mut scene = block([6, 5, 4], 0.5, pvc(), shape);
+    each_shape!(|S, shape| {
+        let mut scene = block([6, 5, 4], 0.5, pvc());
         let v = Vector3::new(3.0, -2.0, 1.0);
         scene.particles.v.iter_mut().for_each(|p| *p = v);
         let x0 = scene.particles.x.clone();
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         for _ in 0..300 {
             sim.step(1.0).unwrap();
         }
@@ -77,7 +90,7 @@ fn rigid_translation_gives_zero_stress() {
         for (a, b) in x0.iter().zip(&sim.scene.particles.x) {
             assert!((b - a - v * sim.time).norm() < 1e-9, "{shape:?}: drifted");
         }
-    }
+    });
 }
 
 /// A rigid spin by 0.2 rad must leave the block essentially unstressed. With an objective
@@ -88,8 +101,8 @@ fn rigid_translation_gives_zero_stress() {
 /// both shape functions. The bound is 5 % of σy.
 #[test]
 fn rigid_rotation_gives_no_stress() {
-    for shape in SHAPES {
-        let mut scene = block([12, 12, 4], 0.5, pvc(), shape);
+    each_shape!(|S, shape| {
+        let mut scene = block([12, 12, 4], 0.5, pvc());
         let centre = Vector3::new(3.0 + 0.13, 3.0 + 0.29, 1.0 + 0.07);
         let omega = Vector3::new(0.0, 0.0, 0.5); // rad/ms
         let p = &mut scene.particles;
@@ -97,7 +110,7 @@ fn rigid_rotation_gives_no_stress() {
             p.v[q] = omega.cross(&(p.x[q] - centre));
         }
         let start = p.x.clone();
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         while sim.time * omega.z < 0.2 {
             sim.step(1.0).unwrap();
         }
@@ -111,7 +124,7 @@ fn rigid_rotation_gives_no_stress() {
         let (r0, r1) = (start[0] - centre, p.x[0] - centre);
         let turned = r1.y.atan2(r1.x) - r0.y.atan2(r0.x);
         assert!(turned > 0.15, "turned only {turned} rad");
-    }
+    });
 }
 
 /// Free–free bar, ν = 0 so the bar speed is exactly √(E/ρ). Started in its first mode,
@@ -122,16 +135,16 @@ fn rigid_rotation_gives_no_stress() {
 /// particle quadrature adds a few tenths of a percent.
 #[test]
 fn elastic_wave_speed_in_a_bar() {
-    for shape in SHAPES {
+    each_shape!(|S, shape| {
         let (h, n) = (0.5, 80);
         let e = 3378.4;
-        let mut scene = block([n, 2, 2], h, Elastoplastic::new(e, 0.0, 1e30), shape);
+        let mut scene = block([n, 2, 2], h, Elastoplastic::new(e, 0.0, 1e30));
         let len = n as f64 * h;
         let (x0, k) = (0.13, std::f64::consts::PI / len);
         for (v, x) in scene.particles.v.iter_mut().zip(&scene.particles.x) {
             v.x = 0.01 * (k * (x.x - x0)).cos();
         }
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         let quarter = len / (2.0 * (e / RHO).sqrt());
         let mut samples: Vec<(f64, f64)> = vec![];
         let found = loop {
@@ -149,7 +162,7 @@ fn elastic_wave_speed_in_a_bar() {
         };
         let err = (found / quarter - 1.0).abs();
         assert!(err < 0.01, "{shape:?}: T/4 {found} vs {quarter} ({err:.4})");
-    }
+    });
 }
 
 /// Momentum: particle→grid and grid→particle transfers conserve it and internal forces sum
@@ -157,8 +170,8 @@ fn elastic_wave_speed_in_a_bar() {
 /// (1e-10 relative) even while the pre-stressed block rings and yields.
 #[test]
 fn momentum_is_conserved_without_plates() {
-    for shape in SHAPES {
-        let mut scene = block([7, 5, 6], 0.5, pvc(), shape);
+    each_shape!(|S, shape| {
+        let mut scene = block([7, 5, 6], 0.5, pvc());
         let p = &mut scene.particles;
         for q in 0..p.len() {
             let s = (q as f64 * 0.7).sin();
@@ -166,7 +179,7 @@ fn momentum_is_conserved_without_plates() {
             p.stress[q] = [40.0 * s, -30.0, 10.0, 20.0 * s, 0.0, 5.0];
         }
         let before = p.momentum();
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         for _ in 0..200 {
             sim.step(1.0).unwrap();
         }
@@ -179,7 +192,7 @@ fn momentum_is_conserved_without_plates() {
             sim.scene.particles.plastic_strain.iter().any(|&e| e > 0.0),
             "test should reach yield"
         );
-    }
+    });
 }
 
 /// A block (3 × 3 × 6 mm) squeezed between frictionless plates past three times its yield
@@ -189,9 +202,9 @@ fn momentum_is_conserved_without_plates() {
 /// may ever lie outside the yield surface.
 #[test]
 fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
-    for shape in SHAPES {
+    each_shape!(|S, shape| {
         let h = 0.5;
-        let mut scene = block([6, 6, 12], h, pvc(), shape);
+        let mut scene = block([6, 6, 12], h, pvc());
         let top = 12.0 * h + 0.07;
         scene.plates = vec![
             Plate {
@@ -207,7 +220,7 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
                 full_velocity: 0.0,
             },
         ];
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         let yield_strain = 65.5 / 3378.4;
         let (mut impulse, mut span) = (0.0, 0.0);
         let mut ratios = vec![];
@@ -231,7 +244,7 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
         for r in ratios {
             assert!((0.95..1.05).contains(&r), "{shape:?}: load / (σy A) = {r}");
         }
-    }
+    });
 }
 
 /// A block resting on the bottom plate with the top plate two cells above it, coming down:
@@ -241,7 +254,7 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
 #[test]
 fn a_node_obeys_the_plate_its_particles_touch_not_the_nearest() {
     let h = 0.5;
-    let mut scene = block([8, 8, 1], h, pvc(), ShapeKind::Gimp);
+    let mut scene = block([8, 8, 1], h, pvc());
     // The layer's centres at z = 0.25 (edges 0..0.5) resting on the bottom plate at z = 0; the
     // top plate at 1.9 (cell 1.0): the node plane z = 1 is 0.9 from it and 1.0 from the bottom.
     for x in &mut scene.particles.x {
@@ -261,7 +274,7 @@ fn a_node_obeys_the_plate_its_particles_touch_not_the_nearest() {
             full_velocity: 0.0,
         },
     ];
-    let mut sim = Simulation::new(scene);
+    let mut sim = Simulation::<Gimp>::new(scene);
     let info = sim.step(1.0).unwrap();
     assert_eq!(info.contact.impulse[0], 0.0, "{:?}", info.contact);
     assert_eq!(info.contact.work, [0.0, 0.0]);
@@ -290,9 +303,9 @@ fn mass(scene: &Scene) -> f64 {
 /// acts in the first step: the block is unstressed.) Round-off only: 1e-12.
 #[test]
 fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
-    for shape in SHAPES {
+    each_shape!(|S, shape| {
         let h = 0.5;
-        let mut scene = block([6, 6, 4], h, pvc(), shape);
+        let mut scene = block([6, 6, 4], h, pvc());
         let top = 4.0 * h + 0.07;
         let speed = 2.0;
         scene.plates = vec![Plate {
@@ -301,7 +314,7 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
             velocity: -speed,
             full_velocity: -speed,
         }];
-        let mut sim = Simulation::new(scene);
+        let mut sim = Simulation::<S>::new(scene);
         let c = sim.step(1.0).unwrap().contact;
         let j = c.impulse[0];
         assert!(j > 0.0);
@@ -316,7 +329,7 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
         // The caught mass J/V is the top layer's share of the nodal mass: less than the block.
         assert!(j / speed < mass(&sim.scene), "{shape:?}");
         assert_eq!((sim.energy.work[0], sim.energy.catch), (c.work[0], c.catch));
-    }
+    });
 }
 
 /// A block sliding at u along a fixed plate while it is pressed on it (it arrives with a small
@@ -331,12 +344,7 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
 #[test]
 fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
     let (h, mu, u, w) = (0.5, 0.2, 5.0, 0.5);
-    let mut scene = block(
-        [6, 6, 4],
-        h,
-        Elastoplastic::new(3378.4, 0.42, 1e30),
-        ShapeKind::Gimp,
-    );
+    let mut scene = block([6, 6, 4], h, Elastoplastic::new(3378.4, 0.42, 1e30));
     scene
         .particles
         .v
@@ -353,7 +361,7 @@ fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
     let m = mass(&scene);
     let kinetic0 = 0.5 * m * (u * u + w * w);
     let p0 = scene.particles.momentum();
-    let mut sim = Simulation::new(scene);
+    let mut sim = Simulation::<Gimp>::new(scene);
     let (mut jn, mut kinetic) = (0.0, 0.0);
     // 0.3 ms: the block (6 particles high, c ≈ 2.5 mm/ms) rings a few times against the plate.
     while sim.time < 0.3 {

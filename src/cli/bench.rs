@@ -10,7 +10,8 @@
 
 use crate::plot::{self, Series};
 use crate::solver::scene::Scene;
-use crate::solver::step::{PhaseTimes, Simulation};
+use crate::solver::shape::Stencil;
+use crate::solver::step::{simulate, Driver, PhaseTimes, Simulation};
 use crate::solver::{Case, Limits, Real};
 use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};
@@ -92,29 +93,45 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
         .num_threads(args.threads)
         .build()?;
     let base_rss = rss_kib("VmRSS:").map(|k| k * 1024);
-    let sample = pool.install(|| -> anyhow::Result<Sample> {
-        let mut sim = Simulation::new(Scene::from_case(&case));
+    let timing = Timing {
+        steps: args.steps,
+        base_rss,
+    };
+    let shape = case.spec().discretization.shape;
+    let sample = pool.install(|| simulate(shape, Scene::from_case(&case), timing))?;
+    println!("{}", serde_json::to_string(&sample)?);
+    Ok(())
+}
+
+/// The timed part of `crush bench-one`, for whichever shape function the case chose.
+struct Timing {
+    steps: u64,
+    base_rss: Option<u64>,
+}
+
+impl Driver for Timing {
+    type Output = anyhow::Result<Sample>;
+
+    fn drive<S: Stencil>(self, mut sim: Simulation<S>) -> Self::Output {
         for _ in 0..3 {
             sim.step(Real::INFINITY)?;
         }
         let warm = sim.phases;
         let start = Instant::now();
-        for _ in 0..args.steps {
+        for _ in 0..self.steps {
             sim.step(Real::INFINITY)?;
         }
         let wall_s = start.elapsed().as_secs_f64();
         Ok(Sample {
             particles: sim.scene.particles.len(),
-            steps: args.steps,
+            steps: self.steps,
             wall_s,
             phases: minus(&sim.phases, &warm),
             peak_rss: rss_kib("VmHWM:").map(|k| k * 1024),
-            base_rss,
-            accounted: sim.scene.particles.bytes() + sim.grid.bytes(),
+            base_rss: self.base_rss,
+            accounted: sim.bytes(),
         })
-    })?;
-    println!("{}", serde_json::to_string(&sample)?);
-    Ok(())
+    }
 }
 
 fn minus(a: &PhaseTimes, b: &PhaseTimes) -> PhaseTimes {

@@ -2,7 +2,7 @@
 
 use super::material::Sym;
 use super::Real;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 /// Every particle's state; all vectors have one entry per particle.
 #[derive(Debug, Clone, Default)]
@@ -17,8 +17,6 @@ pub struct Particles {
     pub vol: Vec<Real>,
     /// Equivalent plastic strain.
     pub plastic_strain: Vec<Real>,
-    /// Velocity gradient of the current step (1/ms), between kinematics and stress update.
-    pub grad: Vec<Matrix3<Real>>,
     /// Yield stress factor per particle; empty when the scene has no weak particles.
     pub yield_scale: Vec<Real>,
     /// Each particle's index in the scene as built: the solver reorders particles for speed,
@@ -47,8 +45,7 @@ impl Particles {
     }
 
     /// Reorders every particle so that new particle `i` is old particle `order[i]` (`order` a
-    /// permutation), in place; `seen` is scratch of any length. The velocity-gradient scratch
-    /// `grad` is left alone: it is recomputed before it is next read.
+    /// permutation), in place; `seen` is scratch of any length.
     pub fn permute(&mut self, order: &[u32], seen: &mut Vec<bool>) {
         permute(&mut self.x, order, seen);
         permute(&mut self.v, order, seen);
@@ -84,7 +81,6 @@ impl Particles {
             + self.stress.capacity() * size_of::<Sym>()
             + (self.mass.capacity() + self.vol.capacity() + self.plastic_strain.capacity())
                 * size_of::<Real>()
-            + self.grad.capacity() * size_of::<Matrix3<Real>>()
             + self.yield_scale.capacity() * size_of::<Real>()
             + self.id.capacity() * size_of::<u32>()
     }

@@ -5,7 +5,8 @@
 use super::case::Case;
 use super::observer::{Observer, Progress};
 use super::scene::{lattice_positions, Scene, BOTTOM, TOP};
-use super::step::Simulation;
+use super::shape::Stencil;
+use super::step::{simulate, Driver, Simulation};
 use super::summary::{self, RunCost};
 use super::{HistoryRow, Real, RunOutput, Snapshot, SolveError};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,8 +32,46 @@ pub fn run_scene(
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
     let start = Instant::now();
+    let shape = case.spec().discretization.shape;
+    let run = Run {
+        case,
+        observer,
+        cancel,
+        start,
+    };
+    simulate(shape, scene, run)
+}
+
+/// The loop of one run, for whichever shape function the case chose.
+struct Run<'a> {
+    case: &'a Case,
+    observer: &'a mut dyn Observer,
+    cancel: &'a AtomicBool,
+    start: Instant,
+}
+
+impl Driver for Run<'_> {
+    type Output = Result<RunOutput, SolveError>;
+
+    fn drive<S: Stencil>(self, sim: Simulation<S>) -> Self::Output {
+        let Run {
+            case,
+            observer,
+            cancel,
+            start,
+        } = self;
+        drive(case, sim, observer, cancel, start)
+    }
+}
+
+fn drive<S: Stencil>(
+    case: &Case,
+    mut sim: Simulation<S>,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+    start: Instant,
+) -> Result<RunOutput, SolveError> {
     let spec = case.spec();
-    let mut sim = Simulation::new(scene);
     let speed = spec.loading.plate_speed_m_s;
     let crush = case.crush_distance_mm();
     let points = spec.output.history_points as usize;
@@ -127,7 +166,7 @@ pub fn run_scene(
 
 /// Kinetic energy can never exceed the work the plates put in (the tube starts at rest);
 /// 20 % above it means the integration is creating energy.
-fn runaway(sim: &Simulation, kinetic: Real) -> Result<(), SolveError> {
+fn runaway<S: Stencil>(sim: &Simulation<S>, kinetic: Real) -> Result<(), SolveError> {
     let work = sim.energy.external();
     if !kinetic.is_finite() || kinetic > 1.2 * work + 1e-12 {
         return Err(SolveError::Unstable {
@@ -143,7 +182,7 @@ fn runaway(sim: &Simulation, kinetic: Real) -> Result<(), SolveError> {
 }
 
 /// Mean of the gaps between each plate and the nearest particle edge, mm.
-fn contact_gap(sim: &Simulation) -> Real {
+fn contact_gap<S: Stencil>(sim: &Simulation<S>) -> Real {
     let p = &sim.scene.particles;
     let h = sim.scene.half_size;
     let top = p.x.iter().map(|x| x.z).fold(Real::MIN, Real::max) + h;

@@ -4,7 +4,7 @@
 //! Axial loading: tube axis z, bottom plate at z = 0 (fixed), top plate at z = l moving down.
 //! Lateral loading: tube axis x over 0..l, centred on y = z = 0, plates at z = ∓(d + t)/2.
 
-use super::case::{around, layers_along, Case, LoadingMode, MaterialModel, ShapeKind};
+use super::case::{around, layers_along, Case, LoadingMode, MaterialModel};
 use super::material::Elastoplastic;
 use super::particles::Particles;
 use super::Real;
@@ -76,7 +76,6 @@ pub struct Scene {
     pub cell: Real,
     /// Half the particle spacing, mm (uGIMP particle half-width).
     pub half_size: Real,
-    pub shape: ShapeKind,
     pub cfl: Real,
     /// Cell-averaged dilation and pressure (see `Discretization::volumetric_averaging`).
     pub average_volumetric: bool,
@@ -151,7 +150,6 @@ impl Scene {
             friction: spec.contact.friction,
             cell,
             half_size: 0.5 * h,
-            shape: spec.discretization.shape,
             cfl: spec.discretization.cfl,
             average_volumetric: spec.discretization.volumetric_averaging,
             domain,

@@ -1,0 +1,253 @@
+//! Binning: which blocks are active and which particles each holds, rebuilt every step from
+//! the particle positions (mm) in named steps: [`Bins::locate`] each particle, bound the
+//! blocks, [`Bins::mark`] every block a stencil touches, [`Bins::number`] them in table order,
+//! [`Bins::sort`] the particles by block, [`Bins::link`] each block to its neighbours.
+
+use super::super::shape::Stencil;
+use super::super::Real;
+use super::{neighbor_index, BLOCK, NONE};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+const MARK: u32 = u32::MAX - 1;
+
+/// The active blocks and each particle's place in them.
+#[derive(Debug, Default)]
+pub struct Bins {
+    /// Block coordinates of each active block.
+    pub blocks: Vec<[i32; 3]>,
+    /// For each active block, its 27 neighbours (itself at index 13) or `u32::MAX`.
+    pub neighbors: Vec<[u32; 27]>,
+    /// Particles of block b are `order[starts[b]..starts[b + 1]]`.
+    pub starts: Vec<u32>,
+    pub order: Vec<u32>,
+    /// Block of each particle's cell.
+    pub home: Vec<u32>,
+    /// Each particle's cell within its block, 0..64.
+    pub cell_of: Vec<u8>,
+    /// Block coordinates of the table's first entry, and the table's extent in blocks.
+    lo: [i32; 3],
+    dim: [i32; 3],
+    /// Dense table over the blocks' bounding box: active block id, `MARK` or `NONE`.
+    table: Vec<u32>,
+    /// Scratch: each particle's block coordinates and stencil spill bits (bit a: below on
+    /// axis a, bit a + 3: above), and the sort's cursors.
+    own: Vec<[i32; 3]>,
+    spill: Vec<u8>,
+    cursor: Vec<u32>,
+}
+
+impl Bins {
+    /// Bins particles at `x` (mm) for stencils of `S`, `inv` the inverse cell size (1/mm) and
+    /// `lp` the particle half-size in grid units.
+    pub fn rebuild<S: Stencil>(&mut self, x: &[Vector3<Real>], inv: Real, lp: Real) {
+        self.locate::<S>(x, inv, lp);
+        self.bound();
+        self.mark();
+        self.number();
+        self.sort();
+        self.link();
+    }
+
+    /// Per particle, in parallel: its block, its cell in the block, and which neighbour blocks
+    /// its stencil spills into.
+    fn locate<S: Stencil>(&mut self, x: &[Vector3<Real>], inv: Real, lp: Real) {
+        self.own.resize(x.len(), [0; 3]);
+        self.cell_of.resize(x.len(), 0);
+        self.spill.resize(x.len(), 0);
+        (
+            self.own.par_chunks_mut(4096),
+            self.cell_of.par_chunks_mut(4096),
+            self.spill.par_chunks_mut(4096),
+            x.par_chunks(4096),
+        )
+            .into_par_iter()
+            .for_each(|(own, cell_of, spill, x)| {
+                for (((o, c), s), p) in own.iter_mut().zip(cell_of).zip(spill).zip(x) {
+                    let mut cell = [0; 3];
+                    *s = 0;
+                    for a in 0..3 {
+                        let g = p[a] * inv;
+                        let (base, _, _) = S::eval(g, lp);
+                        let c = g.floor() as i32;
+                        o[a] = c.div_euclid(BLOCK);
+                        cell[a] = c.rem_euclid(BLOCK);
+                        if base.div_euclid(BLOCK) < o[a] {
+                            *s |= 1 << a;
+                        }
+                        if (base + S::N as i32 - 1).div_euclid(BLOCK) > o[a] {
+                            *s |= 1 << (a + 3);
+                        }
+                    }
+                    *c = ((cell[0] * 4 + cell[1]) * 4 + cell[2]) as u8;
+                }
+            });
+    }
+
+    /// The table's box: the particles' blocks, one block of margin for stencils that spill
+    /// over and one more for neighbour look-ups.
+    fn bound(&mut self) {
+        let (bmin, bmax) = self
+            .own
+            .par_chunks(4096)
+            .map(|own| {
+                own.iter()
+                    .fold(([i32::MAX; 3], [i32::MIN; 3]), |(lo, hi), o| {
+                        (
+                            [lo[0].min(o[0]), lo[1].min(o[1]), lo[2].min(o[2])],
+                            [hi[0].max(o[0]), hi[1].max(o[1]), hi[2].max(o[2])],
+                        )
+                    })
+            })
+            .reduce(
+                || ([i32::MAX; 3], [i32::MIN; 3]),
+                |(a, b), (c, d)| {
+                    (
+                        [a[0].min(c[0]), a[1].min(c[1]), a[2].min(c[2])],
+                        [b[0].max(d[0]), b[1].max(d[1]), b[2].max(d[2])],
+                    )
+                },
+            );
+        self.lo = [bmin[0] - 2, bmin[1] - 2, bmin[2] - 2];
+        self.dim = [
+            bmax[0] - bmin[0] + 5,
+            bmax[1] - bmin[1] + 5,
+            bmax[2] - bmin[2] + 5,
+        ];
+    }
+
+    /// Marks in the table every block a particle's stencil touches; `home` holds each
+    /// particle's table slot.
+    fn mark(&mut self) {
+        let size = (self.dim[0] * self.dim[1] * self.dim[2]) as usize;
+        self.table.clear();
+        self.table.resize(size, NONE);
+        self.home.resize(self.own.len(), 0);
+        let mut last = usize::MAX;
+        for q in 0..self.own.len() {
+            let (o, s) = (self.own[q], self.spill[q]);
+            let home = self.slot(o);
+            self.home[q] = home as u32;
+            if s == 0 {
+                if home != last {
+                    self.table[home] = MARK;
+                    last = home;
+                }
+                continue;
+            }
+            let range = |a: usize| (o[a] - (s >> a & 1) as i32, o[a] + (s >> (a + 3) & 1) as i32);
+            let (rx, ry, rz) = (range(0), range(1), range(2));
+            for i in rx.0..=rx.1 {
+                for j in ry.0..=ry.1 {
+                    for k in rz.0..=rz.1 {
+                        let t = self.slot([i, j, k]);
+                        self.table[t] = MARK;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Numbers the marked blocks in table order; `home` becomes each particle's block id.
+    fn number(&mut self) {
+        self.blocks.clear();
+        let plane = self.dim[1] * self.dim[2];
+        for t in 0..self.table.len() {
+            if self.table[t] == MARK {
+                self.table[t] = self.blocks.len() as u32;
+                let (i, rest) = (t as i32 / plane, t as i32 % plane);
+                self.blocks.push([
+                    self.lo[0] + i,
+                    self.lo[1] + rest / self.dim[2],
+                    self.lo[2] + rest % self.dim[2],
+                ]);
+            }
+        }
+        for h in self.home.iter_mut() {
+            *h = self.table[*h as usize];
+        }
+    }
+
+    /// Counting sort of particles by block; within a block, in particle order.
+    fn sort(&mut self) {
+        let nb = self.blocks.len();
+        self.starts.clear();
+        self.starts.resize(nb + 1, 0);
+        for &h in &self.home {
+            self.starts[h as usize + 1] += 1;
+        }
+        for b in 0..nb {
+            self.starts[b + 1] += self.starts[b];
+        }
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.starts[..nb]);
+        self.order.resize(self.home.len(), 0);
+        for (p, &h) in self.home.iter().enumerate() {
+            let c = &mut self.cursor[h as usize];
+            self.order[*c as usize] = p as u32;
+            *c += 1;
+        }
+    }
+
+    /// Each block's 27 neighbours.
+    fn link(&mut self) {
+        let nb = self.blocks.len();
+        self.neighbors.resize(nb, [NONE; 27]);
+        for b in 0..nb {
+            let c = self.blocks[b];
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let q = [c[0] + dx, c[1] + dy, c[2] + dz];
+                        self.neighbors[b][neighbor_index([dx, dy, dz])] = self.lookup(q);
+                    }
+                }
+            }
+        }
+    }
+
+    /// After the particles were reordered by `order` (`Particles::permute`): carries the
+    /// per-particle binning along, so that block b's particles are now `starts[b]..starts[b+1]`.
+    pub fn adopt_order(&mut self, seen: &mut Vec<bool>) {
+        super::super::particles::permute(&mut self.home, &self.order, seen);
+        super::super::particles::permute(&mut self.cell_of, &self.order, seen);
+        for (i, o) in self.order.iter_mut().enumerate() {
+            *o = i as u32;
+        }
+    }
+
+    /// The particles of block `b`.
+    #[inline(always)]
+    pub fn particles_of(&self, b: usize) -> &[u32] {
+        &self.order[self.starts[b] as usize..self.starts[b + 1] as usize]
+    }
+
+    #[inline(always)]
+    fn slot(&self, b: [i32; 3]) -> usize {
+        let r = [b[0] - self.lo[0], b[1] - self.lo[1], b[2] - self.lo[2]];
+        ((r[0] * self.dim[1] + r[1]) * self.dim[2] + r[2]) as usize
+    }
+
+    /// Active block id at block coordinates `b`, or `NONE`.
+    pub fn lookup(&self, b: [i32; 3]) -> u32 {
+        let inside = (0..3).all(|a| b[a] >= self.lo[a] && b[a] < self.lo[a] + self.dim[a]);
+        if inside {
+            self.table[self.slot(b)]
+        } else {
+            NONE
+        }
+    }
+
+    /// Bytes held by the binning arrays.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.neighbors.capacity() * size_of::<[u32; 27]>()
+            + self.blocks.capacity() * size_of::<[i32; 3]>()
+            + (self.table.capacity() + self.starts.capacity() + self.order.capacity())
+                * size_of::<u32>()
+            + (self.home.capacity() + self.cursor.capacity()) * size_of::<u32>()
+            + self.cell_of.capacity()
+            + self.spill.capacity()
+            + self.own.capacity() * size_of::<[i32; 3]>()
+    }
+}

@@ -1,0 +1,228 @@
+//! One explicit MUSL step, a function per phase (units: mm, ms, g, N, MPa, mJ):
+//!
+//! 1. [`Grid::bin`]: particles into blocks (every `RESORT_EVERY` steps they are reordered by
+//!    block too);
+//! 2. scatter [`Full`] (`transfer.rs`): mass, momentum, internal force and plate touch, reduced
+//!    onto the owned nodes;
+//! 3. the grid update with the plates (`nodes.rs`): velocity and velocity change per node;
+//! 4. g2p velocity: FLIP, each particle adds its stencil's velocity change;
+//! 5. scatter [`Remap`]: the new particle momenta onto the same masses;
+//! 6. the remap with the plates (`nodes.rs`): the velocity the particles move and strain with;
+//! 7. g2p kinematics: velocity gradient and position;
+//! 8. the stress update (`stress.rs`), with cell-averaged dilation and pressure if asked.
+//!
+//! The velocity gradient always comes from the remapped grid velocities: a node that a particle
+//! barely touches gets a huge velocity from f/m in the grid update, and with linear shape
+//! functions its gradient weight does not vanish, so a gradient taken from those velocities
+//! (USL) blows up at cell crossings. (We tried an APIC transfer without the remap: it blew up
+//! exactly so with linear shapes, and with GIMP it was unstable once the material yielded.)
+//!
+//! The shape function is a type, `S`: [`simulate`] turns the case's choice into it once.
+//! What a node holds in each phase is in [`Node`]'s table. The simulation's state is the scene,
+//! the clock and the energy books; everything recomputed within a step is in [`Workspace`].
+
+mod nodes;
+mod stress;
+mod transfer;
+mod workspace;
+
+use super::case::ShapeKind;
+use super::contact::ContactSums;
+#[cfg(doc)]
+use super::grid::Node;
+use super::grid::{Full, Grid, Remap};
+use super::scene::Scene;
+use super::shape::{Gimp, Linear, Stencil};
+use super::{Real, SolveError};
+pub use workspace::Workspace;
+
+/// Every this many steps the particles are reordered block by block, so that the particles a
+/// block scatters are neighbours in memory too (measured: without it the time per
+/// particle-step grew by half from 110 k to 520 k particles). Particles move a small fraction
+/// of a block in this many steps.
+const RESORT_EVERY: u64 = 100;
+
+/// Energy integrals since the start, mJ. What the plates put in (`work`) goes to kinetic energy,
+/// `internal` energy, the projection's `catch` and `friction`; what is left is numerical.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energies {
+    /// ∫ σ:D dV dt: elastic energy plus plastic work.
+    pub internal: Real,
+    pub plastic: Real,
+    /// Work of each plate (top, bottom) on the tube.
+    pub work: [Real; 2],
+    /// Dissipated by the normal part of the contact projection (nodes caught by a plate).
+    pub catch: Real,
+    /// Dissipated by friction at the plates.
+    pub friction: Real,
+}
+
+impl Energies {
+    /// Work of both plates on the tube, mJ.
+    pub fn external(&self) -> Real {
+        self.work[0] + self.work[1]
+    }
+}
+
+/// What the last step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepInfo {
+    /// The step taken, ms.
+    pub dt: Real,
+    /// The step the CFL condition allowed (larger than `dt` when a history row was due), ms.
+    pub stable_dt: Real,
+    pub contact: ContactSums,
+    /// Kinetic energy after the step, mJ.
+    pub kinetic: Real,
+}
+
+/// Wall time spent in each phase since the start, s.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PhaseTimes {
+    /// Binning particles into blocks and building the sparse grid.
+    pub bin: f64,
+    /// Particle → grid transfers (both).
+    pub p2g: f64,
+    /// Reductions, grid updates with contact, broadcasts.
+    pub grid: f64,
+    /// Grid → particle transfers (velocity; gradient and position).
+    pub g2p: f64,
+    /// Cell averages and the stress update.
+    pub stress: f64,
+}
+
+struct Clock(std::time::Instant);
+
+impl Clock {
+    fn start() -> Clock {
+        Clock(std::time::Instant::now())
+    }
+    fn lap(&mut self, into: &mut f64) {
+        let now = std::time::Instant::now();
+        *into += (now - self.0).as_secs_f64();
+        self.0 = now;
+    }
+}
+
+/// What to do with a simulation once its shape function is a type: [`simulate`] calls
+/// [`Driver::drive`] with the one the case chose.
+pub trait Driver {
+    type Output;
+    fn drive<S: Stencil>(self, sim: Simulation<S>) -> Self::Output;
+}
+
+/// The one place where the case's [`ShapeKind`] becomes the type `S`.
+pub fn simulate<D: Driver>(shape: ShapeKind, scene: Scene, driver: D) -> D::Output {
+    match shape {
+        ShapeKind::Linear => driver.drive(Simulation::<Linear>::new(scene)),
+        ShapeKind::Gimp => driver.drive(Simulation::<Gimp>::new(scene)),
+    }
+}
+
+/// A scene advancing in time with shape function `S`.
+pub struct Simulation<S: Stencil> {
+    pub scene: Scene,
+    pub grid: Grid<S>,
+    /// Simulated time, ms.
+    pub time: Real,
+    pub steps: u64,
+    pub energy: Energies,
+    pub phases: PhaseTimes,
+    /// Largest c + |v| over the particles after the last step, mm/ms.
+    signal: Real,
+    /// Nodes lighter than this carry no velocity (guards divisions by tiny masses), g.
+    mass_floor: Real,
+    pub workspace: Workspace,
+}
+
+impl<S: Stencil> Simulation<S> {
+    pub fn new(scene: Scene) -> Simulation<S> {
+        let n = scene.particles.len();
+        let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
+        let c = scene.wave_speed();
+        let vmax = scene
+            .particles
+            .v
+            .iter()
+            .map(|v| v.norm())
+            .fold(0.0, Real::max);
+        Simulation {
+            grid: Grid::new(scene.cell),
+            workspace: Workspace::new(n, scene.average_volumetric),
+            scene,
+            time: 0.0,
+            steps: 0,
+            energy: Energies::default(),
+            phases: PhaseTimes::default(),
+            signal: c + vmax,
+            mass_floor: 1e-14 * mean_mass,
+        }
+    }
+
+    /// The time step the CFL condition allows now, ms.
+    pub fn stable_dt(&self) -> Real {
+        self.scene.cfl * self.scene.cell / self.signal
+    }
+
+    /// Advances one step of at most `dt_cap` ms.
+    pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
+        let stable_dt = self.stable_dt();
+        let dt = stable_dt.min(dt_cap);
+        // The plates' mean velocity over the step: their travel in it is exact on the ramp.
+        let ramp = self.scene.ramp;
+        let share = (ramp.full_speed_time(self.time + dt) - ramp.full_speed_time(self.time)) / dt;
+        for plate in &mut self.scene.plates {
+            plate.velocity = plate.full_velocity * share;
+        }
+        let (contact, kinetic) = self.advance(dt)?;
+        let info = StepInfo {
+            dt,
+            stable_dt,
+            contact,
+            kinetic,
+        };
+        for plate in &mut self.scene.plates {
+            plate.z += plate.velocity * dt;
+        }
+        self.time += dt;
+        self.steps += 1;
+        Ok(info)
+    }
+
+    /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
+    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
+        let lp = self.scene.half_size / self.scene.cell;
+        let mut clock = Clock::start();
+        self.grid.bin(&self.scene.particles.x, lp);
+        if self.steps.is_multiple_of(RESORT_EVERY) {
+            let seen = &mut self.workspace.seen;
+            self.scene.particles.permute(&self.grid.bins.order, seen);
+            self.grid.bins.adopt_order(seen);
+        }
+        clock.lap(&mut self.phases.bin);
+        self.scatter::<Full>(lp, &mut clock);
+        let contact = self.grid_update(dt);
+        self.grid.broadcast();
+        clock.lap(&mut self.phases.grid);
+        self.g2p_velocity(lp);
+        clock.lap(&mut self.phases.g2p);
+        self.scatter::<Remap>(lp, &mut clock);
+        self.remap();
+        self.grid.broadcast();
+        clock.lap(&mut self.phases.grid);
+        self.g2p_kinematics(lp, dt);
+        clock.lap(&mut self.phases.g2p);
+        let kinetic = self.update_stress(dt)?;
+        clock.lap(&mut self.phases.stress);
+        self.energy.work[0] += contact.work[0];
+        self.energy.work[1] += contact.work[1];
+        self.energy.catch += contact.catch;
+        self.energy.friction += contact.friction;
+        Ok((contact, kinetic))
+    }
+
+    /// Bytes held by the particles, the grid and the workspace.
+    pub fn bytes(&self) -> usize {
+        self.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
+    }
+}

@@ -1,0 +1,198 @@
+//! The stress update (units: MPa, 1/ms, mm³, mJ): each particle's J2 return from its velocity
+//! gradient, its volume, the energy books, the next step's signal speed, and the check that
+//! stops a run whose numbers went bad. With volumetric averaging, the dilation rate and the
+//! pressure are first averaged per grid cell ([`VolumetricAverages`]).
+
+use super::super::grid::bin::Bins;
+use super::super::particles::Particles;
+use super::super::shape::Stencil;
+use super::super::{Real, SolveError};
+use super::transfer::CHUNK;
+use super::Simulation;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// Per active block and cell: the volume-weighted mean dilation rate tr(L) (1/ms) and pressure
+/// (MPa) of the particles in the cell.
+#[derive(Debug, Default)]
+pub struct VolumetricAverages {
+    dilation: Vec<[Real; 64]>,
+    pressure: Vec<[Real; 64]>,
+}
+
+impl VolumetricAverages {
+    /// Averages over the cells of `bins`, from the particles' stresses and velocity gradients.
+    fn compute(&mut self, bins: &Bins, p: &Particles, grad: &[Matrix3<Real>]) {
+        let nb = bins.blocks.len();
+        self.dilation.resize(nb, [0.0; 64]);
+        self.pressure.resize(nb, [0.0; 64]);
+        (self.dilation.par_iter_mut(), self.pressure.par_iter_mut())
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(b, (dil, pre))| {
+                let mut vol = [0.0; 64];
+                *dil = [0.0; 64];
+                *pre = [0.0; 64];
+                for &q in bins.particles_of(b) {
+                    let q = q as usize;
+                    let c = bins.cell_of[q] as usize;
+                    let s = &p.stress[q];
+                    vol[c] += p.vol[q];
+                    dil[c] += p.vol[q] * grad[q].trace();
+                    pre[c] += p.vol[q] * (s[0] + s[1] + s[2]) / 3.0;
+                }
+                for c in 0..64 {
+                    if vol[c] > 0.0 {
+                        dil[c] /= vol[c];
+                        pre[c] /= vol[c];
+                    }
+                }
+            });
+    }
+
+    /// The dilation rate and pressure of particle `q`'s cell.
+    #[inline(always)]
+    fn of(&self, bins: &Bins, q: usize) -> (Real, Real) {
+        let (b, cell) = (bins.home[q] as usize, bins.cell_of[q] as usize);
+        (self.dilation[b][cell], self.pressure[b][cell])
+    }
+
+    pub fn bytes(&self) -> usize {
+        (self.dilation.capacity() + self.pressure.capacity()) * std::mem::size_of::<[Real; 64]>()
+    }
+}
+
+/// Per chunk of particles: the sums the stress update books, and the first bad particle.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ChunkSums {
+    work: Real,
+    plastic: Real,
+    kinetic: Real,
+    signal: Real,
+    bad: Option<(usize, &'static str)>,
+}
+
+impl<S: Stencil> Simulation<S> {
+    /// Stress, volume and energy update from the velocity gradients of `g2p_kinematics`, with
+    /// the cell-averaged dilation and pressure when the scene asks for them. Finds the next
+    /// step's signal speed and any particle that went bad. Returns the kinetic energy, mJ.
+    pub(super) fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+        let work = &mut self.workspace;
+        let bins = &self.grid.bins;
+        let averages = work.averages.as_mut().map(|a| {
+            a.compute(bins, &self.scene.particles, &work.velocity_gradient);
+            &*a
+        });
+        let material = self.scene.material;
+        let modulus = material.p_wave_modulus();
+        let domain = self.scene.domain;
+        let p = &mut self.scene.particles;
+        let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
+        let grads = &work.velocity_gradient;
+        (
+            p.stress.par_chunks_mut(CHUNK),
+            p.vol.par_chunks_mut(CHUNK),
+            p.plastic_strain.par_chunks_mut(CHUNK),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, (ss, vols, eps))| {
+                let mut sums = ChunkSums::default();
+                for i in 0..ss.len() {
+                    let q = c * CHUNK + i;
+                    let mut l = grads[q];
+                    if let Some(averages) = averages {
+                        let (dilation, pressure) = averages.of(bins, q);
+                        let shift = (dilation - l.trace()) / 3.0;
+                        l[(0, 0)] += shift;
+                        l[(1, 1)] += shift;
+                        l[(2, 2)] += shift;
+                        let s = &mut ss[i];
+                        let dp = pressure - (s[0] + s[1] + s[2]) / 3.0;
+                        s[0] += dp;
+                        s[1] += dp;
+                        s[2] += dp;
+                    }
+                    let scale = if yield_scale.is_empty() {
+                        1.0
+                    } else {
+                        yield_scale[q]
+                    };
+                    let inc = material.update(&mut ss[i], &l, dt, scale);
+                    let before = vols[i];
+                    vols[i] *= (Matrix3::identity() + l * dt).determinant();
+                    sums.work += inc.stress_power * 0.5 * (before + vols[i]) * dt;
+                    if inc.plastic_strain > 0.0 {
+                        eps[i] += inc.plastic_strain;
+                        sums.plastic +=
+                            material.yield_stress * scale * inc.plastic_strain * vols[i];
+                    }
+                    sums.kinetic += 0.5 * mass[q] * vs[q].norm_squared();
+                    sums.signal = sums
+                        .signal
+                        .max((modulus * vols[i] / mass[q]).sqrt() + vs[q].norm());
+                    // One sum is not finite if any term is not: the full check names the
+                    // fault only then.
+                    let (x, v, st) = (&xs[q], &vs[q], &ss[i]);
+                    let total = x.sum() + v.sum() + st.iter().sum::<Real>() + vols[i];
+                    let inside = (0..3).all(|a| x[a] >= domain[0][a] && x[a] <= domain[1][a]);
+                    if sums.bad.is_none() && !(total.is_finite() && vols[i] > 0.0 && inside) {
+                        sums.bad = diagnose(x, st, vols[i], v, &domain).map(|what| (q, what));
+                    }
+                }
+                sums
+            })
+            .collect_into_vec(&mut work.chunk_sums);
+        let mut signal: Real = 0.0;
+        let mut kinetic = 0.0;
+        for s in &work.chunk_sums {
+            kinetic += s.kinetic;
+            self.energy.internal += s.work;
+            self.energy.plastic += s.plastic;
+            signal = signal.max(s.signal);
+            if let Some((q, what)) = s.bad {
+                let (x, id) = (self.scene.particles.x[q], self.scene.particles.id[q]);
+                return Err(SolveError::Unstable {
+                    step: self.steps + 1,
+                    time_ms: self.time + dt,
+                    what: format!(
+                        "particle {id} at ({:.4}, {:.4}, {:.4}) mm: {what}",
+                        x.x, x.y, x.z
+                    ),
+                });
+            }
+        }
+        if !signal.is_finite() {
+            return Err(SolveError::Unstable {
+                step: self.steps + 1,
+                time_ms: self.time + dt,
+                what: "signal speed is not finite".into(),
+            });
+        }
+        self.signal = signal;
+        Ok(kinetic)
+    }
+}
+
+/// What is wrong with a particle's state, if anything.
+fn diagnose(
+    x: &Vector3<Real>,
+    s: &[Real; 6],
+    vol: Real,
+    v: &Vector3<Real>,
+    domain: &[[Real; 3]; 2],
+) -> Option<&'static str> {
+    if !(x.iter().all(|c| c.is_finite())) {
+        Some("position is not finite")
+    } else if !(v.iter().all(|c| c.is_finite())) {
+        Some("velocity is not finite")
+    } else if !(s.iter().all(|c| c.is_finite())) {
+        Some("stress is not finite")
+    } else if !(vol.is_finite() && vol > 0.0) {
+        Some("volume is not positive (the material turned inside out)")
+    } else if (0..3).any(|a| x[a] < domain[0][a] || x[a] > domain[1][a]) {
+        Some("left the domain (crossed a plate or flew away)")
+    } else {
+        None
+    }
+}

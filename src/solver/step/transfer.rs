@@ -1,0 +1,210 @@
+//! Particle ↔ grid transfers: the scatter of a [`Transfer`] and the two gathers (velocity
+//! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
+
+use super::super::contact;
+use super::super::grid::{Grid, Node, Transfer};
+use super::super::material::to_matrix;
+use super::super::shape::Stencil;
+use super::super::Real;
+use super::{Clock, Simulation};
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+use wide::f64x4;
+
+/// Particles per parallel work item in particle-order passes.
+pub const CHUNK: usize = 1024;
+
+/// A particle touches a plate when its edge is within this share of its half-size of the
+/// surface: far more than the few micrometres it moves in a step, far less than its size.
+const CONTACT_TOLERANCE: Real = 0.05;
+
+impl<S: Stencil> Simulation<S> {
+    /// Particle → grid for transfer `T`, onto the padded buffers (timed as p2g), then reduced
+    /// onto the owned nodes (timed with the grid phase that follows).
+    pub(super) fn scatter<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
+        self.p2g::<T>(lp);
+        clock.lap(&mut self.phases.p2g);
+        self.grid.reduce::<T>();
+    }
+
+    fn p2g<T: Transfer>(&mut self, lp: Real) {
+        let mut padded = std::mem::take(&mut self.grid.padded);
+        let p = &self.scene.particles;
+        let (plates, half) = (&self.scene.plates, self.scene.half_size);
+        let tolerance = CONTACT_TOLERANCE * half;
+        let g = &self.grid;
+        let inv = g.inv_cell;
+        padded
+            .par_chunks_mut(Grid::<S>::PADDED_LEN)
+            .enumerate()
+            .for_each(|(b, pad)| {
+                // A `Remap` scatter zeroes the mass lane too: `Grid::reduce` then adds only
+                // momentum to the owned nodes.
+                let zero = f64x4::splat(0.0);
+                pad.iter_mut().for_each(|n| {
+                    n.lo = zero;
+                    if T::FULL {
+                        n.hi = zero;
+                    }
+                });
+                let o = g.padded_origin(b);
+                for &q in g.bins.particles_of(b) {
+                    let q = q as usize;
+                    let xg = p.x[q] * inv;
+                    let (bx, wx, gx) = S::eval(xg.x, lp);
+                    let (by, wy, gy) = S::eval(xg.y, lp);
+                    let (bz, wz, gz) = S::eval(xg.z, lp);
+                    let (ox, oy, oz) = (
+                        (bx - o[0]) as usize,
+                        (by - o[1]) as usize,
+                        (bz - o[2]) as usize,
+                    );
+                    debug_assert!([ox, oy, oz].iter().all(|&o| o + S::N <= S::PAD));
+                    let (m, v) = (p.mass[q], p.v[q]);
+                    // [mass, momentum] (no mass in the remap).
+                    let mv = f64x4::new([if T::FULL { m } else { 0.0 }, m * v.x, m * v.y, m * v.z]);
+                    // Particles touching a plate put their mass, signed by the plate's side, in
+                    // the touch lane (see `contact::plate_of`).
+                    let touch = if T::FULL {
+                        m * contact::touching(plates, p.x[q].z, half, tolerance)
+                    } else {
+                        0.0
+                    };
+                    // σ·V/h by columns: the force on node (i, j, k) is −(c0·∂x + c1·∂y + c2·∂z)
+                    // of its weight, = fa·N_z + fb·N_z′ per (i, j) row.
+                    let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
+                    let (c0, c1, c2) = (vs.column(0), vs.column(1), vs.column(2));
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
+                            let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
+                            let lo = mv * f64x4::splat(wxy);
+                            if T::FULL {
+                                let fa = c0 * gxy + c1 * wgxy;
+                                let fb = c2 * wxy;
+                                let fa = f64x4::new([-fa.x, -fa.y, -fa.z, touch * wxy]);
+                                let fb = f64x4::new([-fb.x, -fb.y, -fb.z, 0.0]);
+                                for k in 0..S::N {
+                                    let n = &mut pad[row + k];
+                                    let w = f64x4::splat(wz[k]);
+                                    n.lo = lo.mul_add(w, n.lo);
+                                    n.hi = fb.mul_add(f64x4::splat(gz[k]), fa.mul_add(w, n.hi));
+                                }
+                            } else {
+                                for k in 0..S::N {
+                                    let n = &mut pad[row + k];
+                                    n.lo = lo.mul_add(f64x4::splat(wz[k]), n.lo);
+                                }
+                            }
+                        }
+                    }
+                }
+            });
+        self.grid.padded = padded;
+    }
+
+    /// Grid → particle velocity, FLIP: add the interpolated velocity change.
+    pub(super) fn g2p_velocity(&mut self, lp: Real) {
+        let g = &self.grid;
+        let inv = g.inv_cell;
+        let p = &mut self.scene.particles;
+        let x = &p.x;
+        p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
+            for (i, v) in vs.iter_mut().enumerate() {
+                let q = c * CHUNK + i;
+                let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
+                // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
+                let mut acc = f64x4::splat(0.0);
+                for i in 0..S::N {
+                    for j in 0..S::N {
+                        let wxy = e[0].1[i] * e[1].1[j];
+                        let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
+                        let mut s = f64x4::splat(0.0);
+                        for k in 0..S::N {
+                            s = pad[row + k].hi.mul_add(f64x4::splat(e[2].1[k]), s);
+                        }
+                        acc = s.mul_add(f64x4::splat(wxy), acc);
+                    }
+                }
+                let a = acc.as_array();
+                let dv = Vector3::new(a[0], a[1], a[2]);
+                *v += dv;
+            }
+        });
+    }
+
+    /// Grid → particle kinematics: velocity gradient (into the workspace) and position from
+    /// the remapped nodal velocities.
+    pub(super) fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
+        let g = &self.grid;
+        let inv = g.inv_cell;
+        let xs = &mut self.scene.particles.x;
+        let grads = &mut self.workspace.velocity_gradient;
+        (xs.par_chunks_mut(CHUNK), grads.par_chunks_mut(CHUNK))
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(c, (xs, ls))| {
+                for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
+                    let q = c * CHUNK + i;
+                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, *x * inv, lp);
+                    // Lanes 1..4 of `lo` are the velocity. Per (i, j) row, s = Σ v·N_z and
+                    // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
+                    let zero = f64x4::splat(0.0);
+                    let (mut vel, mut l0, mut l1, mut l2) = (zero, zero, zero, zero);
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            let (wx, wy) = (e[0].1[i], e[1].1[j]);
+                            let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
+                            let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
+                            let (mut s, mut t) = (zero, zero);
+                            for k in 0..S::N {
+                                let vn = pad[row + k].lo;
+                                s = vn.mul_add(f64x4::splat(e[2].1[k]), s);
+                                t = vn.mul_add(f64x4::splat(e[2].2[k]), t);
+                            }
+                            vel = s.mul_add(f64x4::splat(wxy), vel);
+                            l0 = s.mul_add(f64x4::splat(gxy), l0);
+                            l1 = s.mul_add(f64x4::splat(wgxy), l1);
+                            l2 = t.mul_add(f64x4::splat(wxy), l2);
+                        }
+                    }
+                    let (c0, c1, c2) = (l0.as_array(), l1.as_array(), l2.as_array());
+                    let l = Matrix3::new(
+                        c0[1], c1[1], c2[1], c0[2], c1[2], c2[2], c0[3], c1[3], c2[3],
+                    );
+                    let vel = vel.as_array();
+                    let vel = Vector3::new(vel[1], vel[2], vel[3]);
+                    *grad = l * inv;
+                    *x += vel * dt;
+                }
+            });
+    }
+}
+
+/// A particle's padded buffer, its stencil's offset in it and the per-axis weights.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn stencil<S: Stencil>(
+    g: &Grid<S>,
+    q: usize,
+    xg: Vector3<Real>,
+    lp: Real,
+) -> (
+    &[Node],
+    usize,
+    usize,
+    usize,
+    [(i32, [Real; 3], [Real; 3]); 3],
+) {
+    let b = g.bins.home[q] as usize;
+    let o = g.padded_origin(b);
+    let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
+    debug_assert!((0..3).all(|a| e[a].0 - o[a] >= 0 && (e[a].0 - o[a]) as usize + S::N <= S::PAD));
+    (
+        g.padded_of(b),
+        (e[0].0 - o[0]) as usize,
+        (e[1].0 - o[1]) as usize,
+        (e[2].0 - o[2]) as usize,
+        e,
+    )
+}

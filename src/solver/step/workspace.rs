@@ -1,0 +1,43 @@
+//! Working memory of a step: everything recomputed within a step, kept between steps only so
+//! that the step loop allocates nothing. None of it is simulation state.
+
+use super::super::contact::ContactSums;
+use super::super::Real;
+use super::stress::{ChunkSums, VolumetricAverages};
+use nalgebra::Matrix3;
+
+#[derive(Debug, Default)]
+pub struct Workspace {
+    /// Each particle's velocity gradient of the current step (1/ms), from the kinematics
+    /// gather to the stress update.
+    pub velocity_gradient: Vec<Matrix3<Real>>,
+    /// Cell averages, when the scene averages dilation and pressure.
+    pub averages: Option<VolumetricAverages>,
+    /// Per chunk of particles: the stress update's sums.
+    pub chunk_sums: Vec<ChunkSums>,
+    /// Per block: the grid update's contact sums.
+    pub block_sums: Vec<ContactSums>,
+    /// Scratch of the particle reordering.
+    pub seen: Vec<bool>,
+}
+
+impl Workspace {
+    /// For `particles` particles, with cell averages when `average_volumetric`.
+    pub fn new(particles: usize, average_volumetric: bool) -> Workspace {
+        Workspace {
+            velocity_gradient: vec![Matrix3::zeros(); particles],
+            averages: average_volumetric.then(VolumetricAverages::default),
+            ..Default::default()
+        }
+    }
+
+    /// Bytes held (capacity, not length).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.velocity_gradient.capacity() * size_of::<Matrix3<Real>>()
+            + self.averages.as_ref().map_or(0, VolumetricAverages::bytes)
+            + self.chunk_sums.capacity() * size_of::<ChunkSums>()
+            + self.block_sums.capacity() * size_of::<ContactSums>()
+            + self.seen.capacity()
+    }
+}
