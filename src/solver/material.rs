@@ -64,8 +64,8 @@ impl Elastoplastic {
     ///
     /// Written on the six components of the symmetric tensors (`Sym` order xx, yy, zz, yz, xz,
     /// xy): with W the spin and σ symmetric, W·σ − σ·W = A + Aᵀ for A = W·σ, so only its six
-    /// distinct entries are formed. The same algebra as the 3×3 form, a third of the flops
-    /// (measured: the matrix form was 29 % of a linear-shape step).
+    /// distinct entries are formed: the same algebra as the 3×3 form, with no 3×3 products (the
+    /// matrix form was 29 % of a linear-shape step in `perf record`).
     #[inline]
     pub fn update(
         &self,

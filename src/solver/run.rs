@@ -53,115 +53,105 @@ struct Run<'a> {
 impl Driver for Run<'_> {
     type Output = Result<RunOutput, SolveError>;
 
-    fn drive<S: Stencil>(self, sim: Simulation<S>) -> Self::Output {
+    fn drive<S: Stencil>(self, mut sim: Simulation<S>) -> Self::Output {
         let Run {
             case,
             observer,
             cancel,
             start,
         } = self;
-        drive(case, sim, observer, cancel, start)
-    }
-}
-
-fn drive<S: Stencil>(
-    case: &Case,
-    mut sim: Simulation<S>,
-    observer: &mut dyn Observer,
-    cancel: &AtomicBool,
-    start: Instant,
-) -> Result<RunOutput, SolveError> {
-    let spec = case.spec();
-    let speed = spec.loading.plate_speed_m_s;
-    let crush = case.crush_distance_mm();
-    let points = spec.output.history_points as usize;
-    let ramp = sim.scene.ramp;
-    // The time the plate would take at full speed; the rows are at equal travel.
-    let duration = crush / speed;
-    let mut rows = Vec::with_capacity(points);
-    let mut cost = RunCost {
-        dt_min_ms: Real::INFINITY,
-        ..Default::default()
-    };
-    let (mut gap_sum, mut gap_rows) = (0.0, 0u32);
-    for k in 1..=points {
-        let end = ramp.time_at(duration * k as Real / points as Real);
-        let mut impulse = [0.0; 2];
-        let t0 = sim.time;
-        let mut kinetic = 0.0;
-        while end - sim.time > 1e-9 * duration {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(SolveError::Cancelled { step: sim.steps });
-            }
-            let info = sim.step(end - sim.time)?;
-            impulse[0] += info.contact.impulse[0];
-            impulse[1] += info.contact.impulse[1];
-            kinetic = info.kinetic;
-            cost.dt_min_ms = cost.dt_min_ms.min(info.stable_dt);
-            cost.dt_max_ms = cost.dt_max_ms.max(info.stable_dt);
-            cost.active_cells_max = cost.active_cells_max.max(sim.grid.len() as u64 * 64);
-            runaway(&sim, kinetic)?;
-        }
-        let interval = sim.time - t0;
-        let e = sim.energy;
-        let mut row = HistoryRow {
-            time_ms: sim.time,
-            displacement_mm: speed * ramp.full_speed_time(sim.time),
-            load_top_n: impulse[0] / interval,
-            load_bottom_n: impulse[1] / interval,
-            kinetic_mj: kinetic,
-            internal_mj: e.internal,
-            plastic_mj: e.plastic,
-            external_mj: e.external(),
-            friction_mj: e.friction,
-            elastic_mj: e.internal - e.plastic,
-            work_top_mj: e.work[TOP],
-            work_bottom_mj: e.work[BOTTOM],
-            contact_mj: e.catch,
-            residual_mj: 0.0,
+        let spec = case.spec();
+        let speed = spec.loading.plate_speed_m_s;
+        let crush = case.crush_distance_mm();
+        let points = spec.output.history_points as usize;
+        let ramp = sim.scene.ramp;
+        // The time the plate would take at full speed; the rows are at equal travel.
+        let duration = crush / speed;
+        let mut rows = Vec::with_capacity(points);
+        let mut cost = RunCost {
+            dt_min_ms: Real::INFINITY,
+            ..Default::default()
         };
-        row.residual_mj = row.external_mj - row.booked_mj();
-        if row.load_top_n > 0.0 {
-            gap_sum += contact_gap(&sim);
-            gap_rows += 1;
+        let (mut gap_sum, mut gap_rows) = (0.0, 0u32);
+        for k in 1..=points {
+            let end = ramp.time_at(duration * k as Real / points as Real);
+            let mut impulse = [0.0; 2];
+            let t0 = sim.time;
+            let mut kinetic = 0.0;
+            while end - sim.time > 1e-9 * duration {
+                if cancel.load(Ordering::Relaxed) {
+                    return Err(SolveError::Cancelled { step: sim.steps });
+                }
+                let info = sim.step(end - sim.time)?;
+                impulse[0] += info.contact.impulse[0];
+                impulse[1] += info.contact.impulse[1];
+                kinetic = info.kinetic;
+                cost.dt_min_ms = cost.dt_min_ms.min(info.stable_dt);
+                cost.dt_max_ms = cost.dt_max_ms.max(info.stable_dt);
+                cost.active_cells_max = cost.active_cells_max.max(sim.grid.len() as u64 * 64);
+                runaway(&sim, kinetic)?;
+            }
+            let interval = sim.time - t0;
+            let e = sim.energy;
+            let mut row = HistoryRow {
+                time_ms: sim.time,
+                displacement_mm: speed * ramp.full_speed_time(sim.time),
+                load_top_n: impulse[0] / interval,
+                load_bottom_n: impulse[1] / interval,
+                kinetic_mj: kinetic,
+                internal_mj: e.internal,
+                plastic_mj: e.plastic,
+                external_mj: e.external(),
+                friction_mj: e.friction,
+                elastic_mj: e.internal - e.plastic,
+                work_top_mj: e.work[TOP],
+                work_bottom_mj: e.work[BOTTOM],
+                contact_mj: e.catch,
+                residual_mj: 0.0,
+            };
+            row.residual_mj = row.external_mj - row.booked_mj();
+            if row.load_top_n > 0.0 {
+                gap_sum += contact_gap(&sim);
+                gap_rows += 1;
+            }
+            observer.on_history(&row);
+            let elapsed = start.elapsed().as_secs_f64();
+            let fraction = k as Real / points as Real;
+            observer.on_progress(&Progress {
+                step: sim.steps,
+                time_ms: sim.time,
+                displacement_mm: row.displacement_mm,
+                load_n: row.load_top_n,
+                fraction,
+                elapsed_s: elapsed,
+                eta_s: elapsed * (1.0 - fraction) / fraction,
+            });
+            rows.push(row);
         }
-        observer.on_history(&row);
-        let elapsed = start.elapsed().as_secs_f64();
-        let fraction = k as Real / points as Real;
-        observer.on_progress(&Progress {
-            step: sim.steps,
-            time_ms: sim.time,
-            displacement_mm: row.displacement_mm,
-            load_n: row.load_top_n,
-            fraction,
-            elapsed_s: elapsed,
-            eta_s: elapsed * (1.0 - fraction) / fraction,
-        });
-        rows.push(row);
+        let p = &sim.scene.particles;
+        let snapshot = Snapshot {
+            initial_mm: lattice_positions(case),
+            position_mm: p.in_original_order(|i| [p.x[i].x, p.x[i].y, p.x[i].z]),
+            plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
+        };
+        cost.particles = p.len() as u64;
+        cost.steps = sim.steps;
+        cost.wall_time_s = start.elapsed().as_secs_f64();
+        cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
+        cost.threads = rayon::current_num_threads() as u32;
+        cost.contact_gap_mm = if gap_rows > 0 {
+            gap_sum / gap_rows as Real
+        } else {
+            0.0
+        };
+        let (summary, mode_detail) = summary::summarize(case, &rows, &snapshot, cost);
+        Ok(RunOutput {
+            history: rows,
+            summary,
+            mode_detail,
+            snapshot,
+        })
     }
-    let p = &sim.scene.particles;
-    let snapshot = Snapshot {
-        initial_mm: lattice_positions(case),
-        position_mm: p.in_original_order(|i| [p.x[i].x, p.x[i].y, p.x[i].z]),
-        plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
-    };
-    cost.particles = p.len() as u64;
-    cost.steps = sim.steps;
-    cost.wall_time_s = start.elapsed().as_secs_f64();
-    cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
-    cost.threads = rayon::current_num_threads() as u32;
-    cost.contact_gap_mm = if gap_rows > 0 {
-        gap_sum / gap_rows as Real
-    } else {
-        0.0
-    };
-    let (summary, mode_detail) = summary::summarize(case, &rows, &snapshot, cost);
-    Ok(RunOutput {
-        history: rows,
-        summary,
-        mode_detail,
-        snapshot,
-    })
 }
 
 /// Kinetic energy can never exceed the work the plates put in (the tube starts at rest);
