@@ -3,6 +3,8 @@
 
 use super::Real;
 use nalgebra::Matrix3;
+use std::ops::{Add, Div, Mul, Sub};
+use wide::f64x4;
 
 /// Symmetric stress in Voigt order xx, yy, zz, yz, xz, xy (MPa).
 pub type Sym = [Real; 6];
@@ -33,13 +35,13 @@ pub struct Elastoplastic {
     pub yield_stress: Real,
 }
 
-/// What one stress update did to a particle.
+/// What one stress update did to a particle (or, with `T = f64x4`, to four).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Increment {
+pub struct Increment<T = Real> {
     /// Equivalent plastic strain increment.
-    pub plastic_strain: Real,
+    pub plastic_strain: T,
     /// Stress power density σ:D over the step, trapezoidal, MPa/ms.
-    pub stress_power: Real,
+    pub stress_power: T,
 }
 
 impl Elastoplastic {
@@ -60,12 +62,8 @@ impl Elastoplastic {
 
     /// Advances `stress` by one step under velocity gradient `l` over `dt`, with the yield stress
     /// scaled by `yield_scale` (weak trigger particles have < 1): the Jaumann rate of the
-    /// elastic trial stress, then the radial return to the von Mises surface.
-    ///
-    /// Written on the six components of the symmetric tensors (`Sym` order xx, yy, zz, yz, xz,
-    /// xy): with W the spin and σ symmetric, W·σ − σ·W = A + Aᵀ for A = W·σ, so only its six
-    /// distinct entries are formed: the same algebra as the 3×3 form, with no 3×3 products (the
-    /// matrix form was 29 % of a linear-shape step in `perf record`).
+    /// elastic trial stress, then the radial return to the von Mises surface. One particle;
+    /// [`Elastoplastic::update_lanes`] is the same update on any [`Lanes`].
     #[inline]
     pub fn update(
         &self,
@@ -74,68 +72,140 @@ impl Elastoplastic {
         dt: Real,
         yield_scale: Real,
     ) -> Increment {
+        let l = [0, 1, 2].map(|i| [0, 1, 2].map(|j| l[(i, j)]));
+        self.update_lanes(stress, &l, dt, yield_scale)
+    }
+
+    /// The update on lanes `T`: `f64` for one particle, `f64x4` for four at once. Every
+    /// operation is IEEE lane by lane and written in one order, so four particles at once give
+    /// the bits each gives alone (a unit test checks).
+    ///
+    /// Written on the six components of the symmetric tensors (`Sym` order xx, yy, zz, yz, xz,
+    /// xy): with W the spin and σ symmetric, W·σ − σ·W = A + Aᵀ for A = W·σ, so only its six
+    /// distinct entries are formed: the same algebra as the 3×3 form, with no 3×3 products (the
+    /// matrix form was 29 % of a linear-shape step in `perf record`).
+    #[inline(always)]
+    pub fn update_lanes<T: Lanes>(
+        &self,
+        stress: &mut [T; 6],
+        l: &[[T; 3]; 3],
+        dt: Real,
+        yield_scale: T,
+    ) -> Increment<T> {
+        let c = T::splat;
+        let half = c(0.5);
         // Rate of deformation D (Sym order) and spin W = [[0, a, b], [−a, 0, c], [−b, −c, 0]].
         let d = [
-            l[(0, 0)],
-            l[(1, 1)],
-            l[(2, 2)],
-            0.5 * (l[(1, 2)] + l[(2, 1)]),
-            0.5 * (l[(0, 2)] + l[(2, 0)]),
-            0.5 * (l[(0, 1)] + l[(1, 0)]),
+            l[0][0],
+            l[1][1],
+            l[2][2],
+            half * (l[1][2] + l[2][1]),
+            half * (l[0][2] + l[2][0]),
+            half * (l[0][1] + l[1][0]),
         ];
-        let (a, b, c) = (
-            0.5 * (l[(0, 1)] - l[(1, 0)]),
-            0.5 * (l[(0, 2)] - l[(2, 0)]),
-            0.5 * (l[(1, 2)] - l[(2, 1)]),
+        let (a, b, w) = (
+            half * (l[0][1] - l[1][0]),
+            half * (l[0][2] - l[2][0]),
+            half * (l[1][2] - l[2][1]),
         );
         let old = *stress;
         let [xx, yy, zz, yz, xz, xy] = old;
+        let two = c(2.0);
         let spin = [
-            2.0 * (a * xy + b * xz),
-            2.0 * (c * yz - a * xy),
-            -2.0 * (b * xz + c * yz),
-            c * zz - c * yy - a * xz - b * xy,
-            a * yz + b * zz - b * xx - c * xy,
-            a * yy + b * yz - a * xx + c * xz,
+            two * (a * xy + b * xz),
+            two * (w * yz - a * xy),
+            c(-2.0) * (b * xz + w * yz),
+            w * zz - w * yy - a * xz - b * xy,
+            a * yz + b * zz - b * xx - w * xy,
+            a * yy + b * yz - a * xx + w * xz,
         ];
-        let (two_g, lam) = (
-            2.0 * self.shear * dt,
-            self.lambda * (d[0] + d[1] + d[2]) * dt,
-        );
-        let mut s = [0.0; 6];
+        let (dt, two_g) = (c(dt), c(2.0 * self.shear * dt));
+        let lam = c(self.lambda) * (d[0] + d[1] + d[2]) * dt;
+        let mut s = [c(0.0); 6];
         for k in 0..6 {
             s[k] = old[k] + spin[k] * dt + d[k] * two_g;
         }
         for v in &mut s[..3] {
-            *v += lam;
+            *v = *v + lam;
         }
-        let p = (s[0] + s[1] + s[2]) / 3.0;
+        let p = (s[0] + s[1] + s[2]) / c(3.0);
         for v in &mut s[..3] {
-            *v -= p;
+            *v = *v - p;
         }
         let norm2 = s[0] * s[0]
             + s[1] * s[1]
             + s[2] * s[2]
-            + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
-        let q = (1.5 * norm2).sqrt();
-        let yield_stress = self.yield_stress * yield_scale;
-        let mut plastic_strain = 0.0;
-        if q > yield_stress {
-            let scale = yield_stress / q;
-            s.iter_mut().for_each(|v| *v *= scale);
-            plastic_strain = (q - yield_stress) / (3.0 * self.shear);
-        }
+            + two * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+        let q = (c(1.5) * norm2).sqrt();
+        // Radial return without a branch: the scale is 1 inside the surface (also for q = 0
+        // and an infinite yield stress, where the quotient is infinite), and particles
+        // of a crush cross the surface both ways from step to step.
+        let yield_stress = c(self.yield_stress) * yield_scale;
+        let scale = (yield_stress / q).min(c(1.0));
+        s.iter_mut().for_each(|v| *v = *v * scale);
+        let plastic_strain = ((q - yield_stress) / c(3.0 * self.shear)).max(c(0.0));
         for v in &mut s[..3] {
-            *v += p;
+            *v = *v + p;
         }
         let power = |k: usize| (old[k] + s[k]) * d[k];
         let stress_power =
-            0.5 * (power(0) + power(1) + power(2) + 2.0 * (power(3) + power(4) + power(5)));
+            half * (power(0) + power(1) + power(2) + two * (power(3) + power(4) + power(5)));
         *stress = s;
         Increment {
             plastic_strain,
             stress_power,
         }
+    }
+}
+
+/// The arithmetic of the stress update, for one particle (`f64`) or four (`f64x4`, one per
+/// lane): IEEE-exact operations, so that the lanes agree bit for bit with the scalar form.
+pub trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    fn splat(x: Real) -> Self;
+    fn sqrt(self) -> Self;
+    /// The smaller; the other one where one is NaN (as `f64::min`).
+    fn min(self, other: Self) -> Self;
+    /// The larger; the other one where one is NaN (as `f64::max`).
+    fn max(self, other: Self) -> Self;
+}
+
+impl Lanes for Real {
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Real::sqrt(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        Real::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        Real::max(self, other)
+    }
+}
+
+impl Lanes for f64x4 {
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        f64x4::splat(x)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64x4::sqrt(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f64x4::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64x4::max(self, other)
     }
 }
 
@@ -212,6 +282,42 @@ mod tests {
             }
             assert!((ia.plastic_strain - ib.plastic_strain).abs() < 1e-15);
             assert!((ia.stress_power - ib.stress_power).abs() < 1e-12 * SY * scale * 10.0);
+        }
+    }
+
+    /// Four particles at once (`f64x4`) give each particle's bits from the scalar update:
+    /// elastic and plastic lanes mixed, weak (scaled) lanes, a zero lane.
+    #[test]
+    fn four_lanes_give_the_scalar_bits() {
+        let m = Elastoplastic::new(E, NU, SY);
+        for k in 0..100 {
+            let f = |j: usize| ((k * 11 + j * 5) as Real * 0.377).sin();
+            let ls: [Matrix3<Real>; 4] = std::array::from_fn(|lane| {
+                let scale = [1e-3, 3e-2, 1e-4, 0.0][(lane + k) % 4];
+                Matrix3::from_fn(|i, j| scale * f(3 * i + j + 9 * lane))
+            });
+            let starts: [Sym; 4] =
+                std::array::from_fn(|lane| std::array::from_fn(|j| 40.0 * f(50 + j + 6 * lane)));
+            let scales = [1.0, 0.01, 1.0, 0.5];
+            let mut lanes: [f64x4; 6] = std::array::from_fn(|j| f64x4::new(starts.map(|s| s[j])));
+            let lv: [[f64x4; 3]; 3] =
+                std::array::from_fn(|r| std::array::from_fn(|c| f64x4::new(ls.map(|l| l[(r, c)]))));
+            let inc = m.update_lanes(&mut lanes, &lv, 1.0, f64x4::new(scales));
+            for lane in 0..4 {
+                let mut s = starts[lane];
+                let one = m.update(&mut s, &ls[lane], 1.0, scales[lane]);
+                for j in 0..6 {
+                    assert_eq!(s[j].to_bits(), lanes[j].to_array()[lane].to_bits());
+                }
+                assert_eq!(
+                    one.plastic_strain.to_bits(),
+                    inc.plastic_strain.to_array()[lane].to_bits()
+                );
+                assert_eq!(
+                    one.stress_power.to_bits(),
+                    inc.stress_power.to_array()[lane].to_bits()
+                );
+            }
         }
     }
 

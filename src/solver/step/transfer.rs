@@ -174,7 +174,7 @@ impl<S: Stencil> Simulation<S> {
                     );
                     let vel = vel.as_array();
                     let vel = Vector3::new(vel[1], vel[2], vel[3]);
-                    *grad = l * inv;
+                    *grad = (l * inv).cast();
                     *x += vel * dt;
                 }
             });
