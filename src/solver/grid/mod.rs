@@ -121,6 +121,35 @@ impl Node {
     }
 }
 
+/// Which half of the nodes a [`Grid::broadcast`] copies into the padded buffers: what the
+/// gather that follows reads, and no more.
+pub trait Gathered: Send + Sync + 'static {
+    /// `lo` ([mass, a]); else `hi` ([b, touch]).
+    const LO: bool;
+}
+
+/// After the grid update: the velocity change, for the FLIP gather (`hi`).
+pub enum VelocityChange {}
+/// After the remap: the velocity, for the kinematics gather (`lo`).
+pub enum Velocity {}
+
+impl Gathered for VelocityChange {
+    const LO: bool = false;
+}
+impl Gathered for Velocity {
+    const LO: bool = true;
+}
+
+/// Every active block's padded buffer ([`Grid::PADDED_LEN`] nodes each), as two arrays: the
+/// `lo` and the `hi` half of each [`Node`]. Two arrays and not one of nodes, because only the
+/// [`Full`] scatter and its reduce need both halves: the [`Remap`] scatter, its reduce, both
+/// broadcasts and both gathers stream half the bytes.
+#[derive(Debug, Default)]
+pub struct Padded {
+    pub lo: Vec<f64x4>,
+    pub hi: Vec<f64x4>,
+}
+
 /// The sparse grid and the binning of particles into its blocks, for shape function `S`.
 #[derive(Debug)]
 pub struct Grid<S: Stencil> {
@@ -128,7 +157,7 @@ pub struct Grid<S: Stencil> {
     pub inv_cell: Real,
     /// The active blocks and each particle's place in them, rebuilt by [`Grid::bin`].
     pub bins: bin::Bins,
-    pub padded: Vec<Node>,
+    pub padded: Padded,
     pub owned: Vec<Node>,
     shape: PhantomData<S>,
 }
@@ -149,7 +178,7 @@ impl<S: Stencil> Grid<S> {
             cell,
             inv_cell: 1.0 / cell,
             bins: bin::Bins::default(),
-            padded: Vec::new(),
+            padded: Padded::default(),
             owned: Vec::new(),
             shape: PhantomData,
         }
@@ -182,10 +211,10 @@ impl<S: Stencil> Grid<S> {
         self.bins.blocks[b].map(|c| c * BLOCK + S::PAD_LO)
     }
 
-    /// Block `b`'s padded buffer.
+    /// Block `b`'s part of a padded half (`self.padded.lo` or `.hi`).
     #[inline(always)]
-    pub fn padded_of(&self, b: usize) -> &[Node] {
-        &self.padded[b * Self::PADDED_LEN..(b + 1) * Self::PADDED_LEN]
+    pub fn block_of(half: &[f64x4], b: usize) -> &[f64x4] {
+        &half[b * Self::PADDED_LEN..(b + 1) * Self::PADDED_LEN]
     }
 
     /// Sorts particles into blocks, activates every block a stencil touches and sizes the
@@ -193,14 +222,15 @@ impl<S: Stencil> Grid<S> {
     pub fn bin(&mut self, x: &[Vector3<Real>], lp: Real) {
         self.bins.rebuild::<S>(x, self.inv_cell, lp);
         let nb = self.len();
-        self.padded.resize(nb * Self::PADDED_LEN, Node::default());
+        let zero = f64x4::splat(0.0);
+        self.padded.lo.resize(nb * Self::PADDED_LEN, zero);
+        self.padded.hi.resize(nb * Self::PADDED_LEN, zero);
         self.owned.resize(nb * OWNED, Node::default());
     }
 
     /// Sums the padded buffers into the owned nodes: what transfer `T` scattered.
     pub fn reduce<T: Transfer>(&mut self) {
         let (padded, neighbors) = (&self.padded, &self.bins.neighbors);
-        let len = Self::PADDED_LEN;
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
@@ -212,17 +242,18 @@ impl<S: Stencil> Grid<S> {
                     let (true, Some([x, y, z])) = (nb != NONE, overlap3::<S>(e)) else {
                         continue;
                     };
-                    let src = &padded[nb as usize * len..(nb as usize + 1) * len];
+                    let lo = Self::block_of(&padded.lo, nb as usize);
+                    let hi = Self::block_of(&padded.hi, nb as usize);
                     for i in 0..x.2 {
                         for j in 0..y.2 {
                             for k in 0..z.2 {
-                                let s = &src[Self::padded_index(x.0 + i, y.0 + j, z.0 + k)];
+                                let s = Self::padded_index(x.0 + i, y.0 + j, z.0 + k);
                                 let o = &mut own[((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k];
                                 // A `Remap` scatter leaves the padded mass lane 0, so adding
                                 // `lo` adds only momentum.
-                                o.lo += s.lo;
+                                o.lo += lo[s];
                                 if T::FULL {
-                                    o.hi += s.hi;
+                                    o.hi += hi[s];
                                 }
                             }
                         }
@@ -231,11 +262,15 @@ impl<S: Stencil> Grid<S> {
             });
     }
 
-    /// Copies the owned nodes into every padded buffer that holds them.
-    pub fn broadcast(&mut self) {
+    /// Copies half `G` of the owned nodes into every padded buffer that holds them.
+    pub fn broadcast<G: Gathered>(&mut self) {
         let (owned, neighbors) = (&self.owned, &self.bins.neighbors);
-        self.padded
-            .par_chunks_mut(Self::PADDED_LEN)
+        let half = if G::LO {
+            &mut self.padded.lo
+        } else {
+            &mut self.padded.hi
+        };
+        half.par_chunks_mut(Self::PADDED_LEN)
             .enumerate()
             .for_each(|(b, buf)| {
                 for (k, &nb) in neighbors[b].iter().enumerate() {
@@ -246,10 +281,15 @@ impl<S: Stencil> Grid<S> {
                         for j in 0..y.2 {
                             for k in 0..z.2 {
                                 buf[Self::padded_index(x.0 + i, y.0 + j, z.0 + k)] = if nb == NONE {
-                                    Node::default()
+                                    f64x4::splat(0.0)
                                 } else {
                                     let local = ((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k;
-                                    owned[nb as usize * OWNED + local]
+                                    let n = &owned[nb as usize * OWNED + local];
+                                    if G::LO {
+                                        n.lo
+                                    } else {
+                                        n.hi
+                                    }
                                 };
                             }
                         }
@@ -260,7 +300,8 @@ impl<S: Stencil> Grid<S> {
 
     /// Bytes held by the grid and the binning arrays.
     pub fn bytes(&self) -> usize {
-        (self.padded.capacity() + self.owned.capacity()) * std::mem::size_of::<Node>()
+        (self.padded.lo.capacity() + self.padded.hi.capacity()) * std::mem::size_of::<f64x4>()
+            + self.owned.capacity() * std::mem::size_of::<Node>()
             + self.bins.bytes()
     }
 }
@@ -323,8 +364,8 @@ mod tests {
         for b in 0..g.len() {
             let o = g.padded_origin(b);
             let mine: Vec<u32> = g.bins.particles_of(b).to_vec();
-            let buf = &mut g.padded[b * len..(b + 1) * len];
-            buf.iter_mut().for_each(|n| *n = Node::default());
+            let buf = &mut g.padded.lo[b * len..(b + 1) * len];
+            buf.iter_mut().for_each(|n| *n = f64x4::splat(0.0));
             for p in mine {
                 let e: Vec<_> = (0..3)
                     .map(|a| S::eval(x[p as usize][a] * 2.0, lp))
@@ -338,7 +379,7 @@ mod tests {
                                 (e[2].0 + k as i32 - o[2]) as usize,
                             );
                             let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
-                            buf[idx].lo += f64x4::new([w, 0.0, 0.0, 0.0]);
+                            buf[idx] += f64x4::new([w, 0.0, 0.0, 0.0]);
                         }
                     }
                 }
@@ -347,11 +388,11 @@ mod tests {
         g.reduce::<Full>();
         let total: Real = g.owned.iter().map(|n| n.mass()).sum();
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
-        g.broadcast();
+        g.broadcast::<Velocity>();
         // Every padded node now equals its owner.
         for b in 0..g.len() {
             let o = g.padded_origin(b);
-            for (q, n) in g.padded_of(b).iter().enumerate() {
+            for (q, n) in Grid::<S>::block_of(&g.padded.lo, b).iter().enumerate() {
                 let node = [
                     o[0] + (q / (pad * pad)) as i32,
                     o[1] + ((q / pad) % pad) as i32,
@@ -371,7 +412,7 @@ mod tests {
                     ];
                     let on =
                         g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
-                    assert_eq!(n.mass(), on.mass());
+                    assert_eq!(n.as_array()[0], on.mass());
                 }
             }
         }

@@ -30,7 +30,7 @@ use super::case::ShapeKind;
 use super::contact::ContactSums;
 #[cfg(doc)]
 use super::grid::Node;
-use super::grid::{Full, Grid, Remap};
+use super::grid::{Full, Grid, Remap, Velocity, VelocityChange};
 use super::scene::Scene;
 use super::shape::{Gimp, Linear, Stencil};
 use super::{Real, SolveError};
@@ -202,13 +202,13 @@ impl<S: Stencil> Simulation<S> {
         clock.lap(&mut self.phases.bin);
         self.scatter::<Full>(lp, &mut clock);
         let contact = self.grid_update(dt);
-        self.grid.broadcast();
+        self.grid.broadcast::<VelocityChange>();
         clock.lap(&mut self.phases.grid);
         self.g2p_velocity(lp);
         clock.lap(&mut self.phases.g2p);
         self.scatter::<Remap>(lp, &mut clock);
         self.remap();
-        self.grid.broadcast();
+        self.grid.broadcast::<Velocity>();
         clock.lap(&mut self.phases.grid);
         self.g2p_kinematics(lp, dt);
         clock.lap(&mut self.phases.g2p);

@@ -2,7 +2,7 @@
 //! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
 
 use super::super::contact;
-use super::super::grid::{Grid, Node, Transfer};
+use super::super::grid::{Grid, Transfer};
 use super::super::material::to_matrix;
 use super::super::shape::Stencil;
 use super::super::Real;
@@ -29,24 +29,23 @@ impl<S: Stencil> Simulation<S> {
 
     fn p2g<T: Transfer>(&mut self, lp: Real) {
         let mut padded = std::mem::take(&mut self.grid.padded);
+        let len = Grid::<S>::PADDED_LEN;
         let p = &self.scene.particles;
         let (plates, half) = (&self.scene.plates, self.scene.half_size);
         let tolerance = CONTACT_TOLERANCE * half;
         let g = &self.grid;
         let inv = g.inv_cell;
-        padded
-            .par_chunks_mut(Grid::<S>::PADDED_LEN)
+        (padded.lo.par_chunks_mut(len), padded.hi.par_chunks_mut(len))
+            .into_par_iter()
             .enumerate()
-            .for_each(|(b, pad)| {
+            .for_each(|(b, (lo, hi))| {
                 // A `Remap` scatter zeroes the mass lane too: `Grid::reduce` then adds only
-                // momentum to the owned nodes.
+                // momentum to the owned nodes. It leaves `hi` alone.
                 let zero = f64x4::splat(0.0);
-                pad.iter_mut().for_each(|n| {
-                    n.lo = zero;
-                    if T::FULL {
-                        n.hi = zero;
-                    }
-                });
+                lo.fill(zero);
+                if T::FULL {
+                    hi.fill(zero);
+                }
                 let o = g.padded_origin(b);
                 for &q in g.bins.particles_of(b) {
                     let q = q as usize;
@@ -78,22 +77,21 @@ impl<S: Stencil> Simulation<S> {
                         for j in 0..S::N {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
-                            let lo = mv * f64x4::splat(wxy);
+                            let m = mv * f64x4::splat(wxy);
                             if T::FULL {
                                 let fa = c0 * gxy + c1 * wgxy;
                                 let fb = c2 * wxy;
                                 let fa = f64x4::new([-fa.x, -fa.y, -fa.z, touch * wxy]);
                                 let fb = f64x4::new([-fb.x, -fb.y, -fb.z, 0.0]);
                                 for k in 0..S::N {
-                                    let n = &mut pad[row + k];
+                                    let n = row + k;
                                     let w = f64x4::splat(wz[k]);
-                                    n.lo = lo.mul_add(w, n.lo);
-                                    n.hi = fb.mul_add(f64x4::splat(gz[k]), fa.mul_add(w, n.hi));
+                                    lo[n] = m.mul_add(w, lo[n]);
+                                    hi[n] = fb.mul_add(f64x4::splat(gz[k]), fa.mul_add(w, hi[n]));
                                 }
                             } else {
-                                for k in 0..S::N {
-                                    let n = &mut pad[row + k];
-                                    n.lo = lo.mul_add(f64x4::splat(wz[k]), n.lo);
+                                for (n, w) in lo[row..row + S::N].iter_mut().zip(&wz) {
+                                    *n = m.mul_add(f64x4::splat(*w), *n);
                                 }
                             }
                         }
@@ -112,7 +110,7 @@ impl<S: Stencil> Simulation<S> {
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
-                let (pad, ox, oy, oz, e) = stencil::<S>(g, q, x[q] * inv, lp);
+                let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.hi, q, x[q] * inv, lp);
                 // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
                 let mut acc = f64x4::splat(0.0);
                 for i in 0..S::N {
@@ -121,7 +119,7 @@ impl<S: Stencil> Simulation<S> {
                         let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
                         let mut s = f64x4::splat(0.0);
                         for k in 0..S::N {
-                            s = pad[row + k].hi.mul_add(f64x4::splat(e[2].1[k]), s);
+                            s = pad[row + k].mul_add(f64x4::splat(e[2].1[k]), s);
                         }
                         acc = s.mul_add(f64x4::splat(wxy), acc);
                     }
@@ -146,7 +144,7 @@ impl<S: Stencil> Simulation<S> {
             .for_each(|(c, (xs, ls))| {
                 for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
                     let q = c * CHUNK + i;
-                    let (pad, ox, oy, oz, e) = stencil::<S>(g, q, *x * inv, lp);
+                    let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.lo, q, *x * inv, lp);
                     // Lanes 1..4 of `lo` are the velocity. Per (i, j) row, s = Σ v·N_z and
                     // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
                     let zero = f64x4::splat(0.0);
@@ -158,7 +156,7 @@ impl<S: Stencil> Simulation<S> {
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
                             let (mut s, mut t) = (zero, zero);
                             for k in 0..S::N {
-                                let vn = pad[row + k].lo;
+                                let vn = pad[row + k];
                                 s = vn.mul_add(f64x4::splat(e[2].1[k]), s);
                                 t = vn.mul_add(f64x4::splat(e[2].2[k]), t);
                             }
@@ -181,16 +179,17 @@ impl<S: Stencil> Simulation<S> {
     }
 }
 
-/// A particle's padded buffer, its stencil's offset in it and the per-axis weights.
+/// A particle's block of padded `half`, its stencil's offset in it and the per-axis weights.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
-fn stencil<S: Stencil>(
+fn stencil<'a, S: Stencil>(
     g: &Grid<S>,
+    half: &'a [f64x4],
     q: usize,
     xg: Vector3<Real>,
     lp: Real,
 ) -> (
-    &[Node],
+    &'a [f64x4],
     usize,
     usize,
     usize,
@@ -201,7 +200,7 @@ fn stencil<S: Stencil>(
     let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
     debug_assert!((0..3).all(|a| e[a].0 - o[a] >= 0 && (e[a].0 - o[a]) as usize + S::N <= S::PAD));
     (
-        g.padded_of(b),
+        Grid::<S>::block_of(half, b),
         (e[0].0 - o[0]) as usize,
         (e[1].0 - o[1]) as usize,
         (e[2].0 - o[2]) as usize,
