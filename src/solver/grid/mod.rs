@@ -159,6 +159,8 @@ pub struct Grid<S: Stencil> {
     pub bins: bin::Bins,
     pub padded: Padded,
     pub owned: Vec<Node>,
+    /// Which padded node is which owned node, the same for every block.
+    links: Links,
     shape: PhantomData<S>,
 }
 
@@ -180,6 +182,7 @@ impl<S: Stencil> Grid<S> {
             bins: bin::Bins::default(),
             padded: Padded::default(),
             owned: Vec::new(),
+            links: Links::new::<S>(),
             shape: PhantomData,
         }
     }
@@ -228,43 +231,40 @@ impl<S: Stencil> Grid<S> {
         self.owned.resize(nb * OWNED, Node::default());
     }
 
-    /// Sums the padded buffers into the owned nodes: what transfer `T` scattered.
+    /// Sums the padded buffers into the owned nodes: what transfer `T` scattered. Each owned
+    /// node adds its padded copies in the order of the neighbours that hold them, whatever the
+    /// thread count.
     pub fn reduce<T: Transfer>(&mut self) {
-        let (padded, neighbors) = (&self.padded, &self.bins.neighbors);
+        let (padded, neighbors, links) = (&self.padded, &self.bins.neighbors, &self.links);
+        let len = Self::PADDED_LEN;
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
-                own.iter_mut().for_each(|n| n.clear::<T>());
-                for (k, &nb) in neighbors[b].iter().enumerate() {
-                    // The neighbour at offset d holds our nodes as its neighbour at −d.
-                    let e = neighbor_offset(k).map(|d| -d);
-                    let (true, Some([x, y, z])) = (nb != NONE, overlap3::<S>(e)) else {
-                        continue;
-                    };
-                    let lo = Self::block_of(&padded.lo, nb as usize);
-                    let hi = Self::block_of(&padded.hi, nb as usize);
-                    for i in 0..x.2 {
-                        for j in 0..y.2 {
-                            for k in 0..z.2 {
-                                let s = Self::padded_index(x.0 + i, y.0 + j, z.0 + k);
-                                let o = &mut own[((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k];
-                                // A `Remap` scatter leaves the padded mass lane 0, so adding
-                                // `lo` adds only momentum.
-                                o.lo += lo[s];
-                                if T::FULL {
-                                    o.hi += hi[s];
-                                }
-                            }
+                let nbs = &neighbors[b];
+                for (l, o) in own.iter_mut().enumerate() {
+                    o.clear::<T>();
+                    for &(k, s) in links.copies_of(l) {
+                        let nb = nbs[k as usize];
+                        if nb == NONE {
+                            continue;
+                        }
+                        let s = nb as usize * len + s as usize;
+                        // A `Remap` scatter leaves the padded mass lane 0, so adding `lo` adds
+                        // only momentum.
+                        o.lo += padded.lo[s];
+                        if T::FULL {
+                            o.hi += padded.hi[s];
                         }
                     }
                 }
             });
     }
 
-    /// Copies half `G` of the owned nodes into every padded buffer that holds them.
+    /// Copies half `G` of the owned nodes into every padded buffer that holds them, each
+    /// buffer written front to back.
     pub fn broadcast<G: Gathered>(&mut self) {
-        let (owned, neighbors) = (&self.owned, &self.bins.neighbors);
+        let (owned, neighbors, links) = (&self.owned, &self.bins.neighbors, &self.links);
         let half = if G::LO {
             &mut self.padded.lo
         } else {
@@ -273,27 +273,19 @@ impl<S: Stencil> Grid<S> {
         half.par_chunks_mut(Self::PADDED_LEN)
             .enumerate()
             .for_each(|(b, buf)| {
-                for (k, &nb) in neighbors[b].iter().enumerate() {
-                    let Some([x, y, z]) = overlap3::<S>(neighbor_offset(k)) else {
-                        continue;
-                    };
-                    for i in 0..x.2 {
-                        for j in 0..y.2 {
-                            for k in 0..z.2 {
-                                buf[Self::padded_index(x.0 + i, y.0 + j, z.0 + k)] = if nb == NONE {
-                                    f64x4::splat(0.0)
-                                } else {
-                                    let local = ((x.1 + i) * 4 + y.1 + j) * 4 + z.1 + k;
-                                    let n = &owned[nb as usize * OWNED + local];
-                                    if G::LO {
-                                        n.lo
-                                    } else {
-                                        n.hi
-                                    }
-                                };
-                            }
+                let nbs = &neighbors[b];
+                for (n, &(k, l)) in buf.iter_mut().zip(&links.owner) {
+                    let nb = nbs[k as usize];
+                    *n = if nb == NONE {
+                        f64x4::splat(0.0)
+                    } else {
+                        let o = &owned[nb as usize * OWNED + l as usize];
+                        if G::LO {
+                            o.lo
+                        } else {
+                            o.hi
                         }
-                    }
+                    };
                 }
             });
     }
@@ -304,6 +296,66 @@ impl<S: Stencil> Grid<S> {
             + self.owned.capacity() * std::mem::size_of::<Node>()
             + self.bins.bytes()
     }
+}
+
+/// The map between a block's padded nodes and the owned nodes they copy, built once per shape
+/// function: the same for every block, with neighbours named by [`neighbor_index`].
+#[derive(Debug)]
+struct Links {
+    /// Per owned node of a block (0..64): its copies in padded buffers, as (neighbour index,
+    /// padded index in that neighbour's buffer), in neighbour order:
+    /// `copies[starts[l]..starts[l + 1]]`.
+    starts: [u16; OWNED + 1],
+    copies: Vec<(u8, u16)>,
+    /// Per padded node of a block: the neighbour that owns it and its index there.
+    owner: Vec<(u8, u8)>,
+}
+
+impl Links {
+    fn new<S: Stencil>() -> Links {
+        let pad = S::PAD;
+        let index = |i: usize, j: usize, k: usize| (i * pad + j) * pad + k;
+        let local = |i: usize, j: usize, k: usize| (i * 4 + j) * 4 + k;
+        let mut owner = vec![(0, 0); pad * pad * pad];
+        let mut per_node: Vec<Vec<(u8, u16)>> = vec![Vec::new(); OWNED];
+        for n in 0..27 {
+            // Our padded nodes owned by neighbour n.
+            if let Some([x, y, z]) = overlap3::<S>(neighbor_offset(n)) {
+                for (i, j, k) in cube(x.2, y.2, z.2) {
+                    let l = local(x.1 + i, y.1 + j, z.1 + k) as u8;
+                    owner[index(x.0 + i, y.0 + j, z.0 + k)] = (n as u8, l);
+                }
+            }
+            // Our owned nodes in neighbour n's padded buffer: it holds them as its neighbour
+            // at the opposite offset.
+            let e = neighbor_offset(n).map(|d| -d);
+            if let Some([x, y, z]) = overlap3::<S>(e) {
+                for (i, j, k) in cube(x.2, y.2, z.2) {
+                    let s = index(x.0 + i, y.0 + j, z.0 + k) as u16;
+                    per_node[local(x.1 + i, y.1 + j, z.1 + k)].push((n as u8, s));
+                }
+            }
+        }
+        let mut starts = [0; OWNED + 1];
+        for l in 0..OWNED {
+            starts[l + 1] = starts[l] + per_node[l].len() as u16;
+        }
+        Links {
+            starts,
+            copies: per_node.concat(),
+            owner,
+        }
+    }
+
+    #[inline(always)]
+    fn copies_of(&self, l: usize) -> &[(u8, u16)] {
+        &self.copies[self.starts[l] as usize..self.starts[l + 1] as usize]
+    }
+}
+
+/// (i, j, k) over 0..nx × 0..ny × 0..nz, k fastest.
+fn cube(nx: usize, ny: usize, nz: usize) -> impl Iterator<Item = (usize, usize, usize)> {
+    (0..nx).flat_map(move |i| (0..ny).flat_map(move |j| (0..nz).map(move |k| (i, j, k))))
 }
 
 /// [`overlap`] on all three axes, for a neighbour offset `e`; None if any axis has none.
