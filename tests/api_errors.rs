@@ -369,6 +369,36 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     assert_eq!(ok.status(), 200);
     let estimate: Value = ok.json().await.unwrap();
     assert_eq!(estimate["steps"], 15687, "{estimate}");
+    // The default case (axial, no trigger) qualifies for the axisymmetric model: the estimate
+    // says what it would cost and what it cannot show; a triggered case does not qualify.
+    let reduced = &estimate["reduced"];
+    assert_eq!(reduced["model"], "axisymmetric", "{estimate}");
+    assert!(reduced["speedup"].as_f64().unwrap() > 10.0, "{estimate}");
+    assert!(reduced["cannot_show"].as_str().unwrap().contains("lobes"));
+    let triggered = json!({"trigger": {"weak_fraction": 0.003}});
+    let e: Value = c
+        .post(app.at("/v1/estimate"))
+        .json(&triggered)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    assert!(e.get("reduced").is_none(), "{e}");
+    // A model that does not fit the scene is refused with the field named.
+    let wrong =
+        json!({"loading": {"mode": "lateral"}, "discretization": {"model": "axisymmetric"}});
+    let p = problem(
+        c.post(app.at("/v1/jobs"))
+            .json(&wrong)
+            .send()
+            .await
+            .unwrap(),
+        422,
+    )
+    .await;
+    assert_eq!(fields(&p), vec!["discretization.model"]);
 }
 
 /// Issue 10: a job stored by an older version whose count had wrapped crashed the server when

@@ -70,6 +70,37 @@ async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
     );
 }
 
+/// A reduced model runs through the service like 3D: summary (mode ring), picture, and a VTU
+/// that holds the section's particles with a note of the symmetry.
+#[tokio::test]
+async fn an_axisymmetric_job_gives_the_section_with_its_symmetry_named() {
+    let app = TestApp::start(&[]).await;
+    let mut case = tiny_case();
+    case["discretization"]["model"] = "axisymmetric".into();
+    case["trigger"] = serde_json::json!({"weak_fraction": 0});
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(job["summary"]["mode"]["kind"], "ring", "{job}");
+    let r = app.get(&format!("/v1/jobs/{id}/shape.png")).await;
+    assert_eq!(r.status(), 200);
+    let r = app.get(&format!("/v1/jobs/{id}/state.vtu")).await;
+    assert_eq!(r.status(), 200);
+    let text = String::from_utf8(r.bytes().await.unwrap().to_vec()).unwrap();
+    assert!(text.contains("<!-- axisymmetric model"), "{}", &text[..300]);
+    let vtk = vtkio::Vtk::parse_xml(text.as_bytes()).unwrap();
+    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).unwrap();
+    assert_eq!(
+        piece.num_points(),
+        job["particles"].as_u64().unwrap() as usize
+    );
+}
+
 #[tokio::test]
 async fn a_case_that_keeps_no_state_has_numbers_but_no_picture() {
     let app = TestApp::start(&[]).await;

@@ -143,7 +143,10 @@ function scheduleEstimate() {
       const e = r.data;
       out.textContent = `${e.particles.toLocaleString()} particles, ${e.steps.toLocaleString()} steps, ` +
         `about ${seconds(e.wall_time_s)} on ${e.threads} thread${e.threads === 1 ? "" : "s"}, ` +
-        `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB`;
+        `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB` +
+        (e.reduced ? `. The ${e.reduced.model.replace("_", " ")} model (discretization.model) would take ` +
+          `about ${seconds(e.reduced.wall_time_s)}, ${e.reduced.speedup.toFixed(0)}× less; ` +
+          `it cannot show ${e.reduced.cannot_show}.` : "");
     } else {
       out.textContent = "";
       showProblem(r.data);

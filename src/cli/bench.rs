@@ -10,8 +10,7 @@
 
 use crate::plot::{self, Series};
 use crate::solver::scene::Scene;
-use crate::solver::shape::Stencil;
-use crate::solver::step::{simulate, Driver, PhaseTimes, Simulation};
+use crate::solver::step::{simulate, Driver, Engine, PhaseTimes};
 use crate::solver::{Case, Limits, Real};
 use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};
@@ -97,8 +96,8 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
         steps: args.steps,
         base_rss,
     };
-    let shape = case.spec().discretization.shape;
-    let sample = pool.install(|| simulate(shape, Scene::from_case(&case), timing))?;
+    let d = &case.spec().discretization;
+    let sample = pool.install(|| simulate(d.model, d.shape, Scene::from_case(&case), timing))?;
     println!("{}", serde_json::to_string(&sample)?);
     Ok(())
 }
@@ -112,21 +111,21 @@ struct Timing {
 impl Driver for Timing {
     type Output = anyhow::Result<Sample>;
 
-    fn drive<S: Stencil>(self, mut sim: Simulation<S>) -> Self::Output {
+    fn drive<E: Engine>(self, mut sim: E) -> Self::Output {
         for _ in 0..3 {
             sim.step(Real::INFINITY)?;
         }
-        let warm = sim.phases;
+        let warm = *sim.phases();
         let start = Instant::now();
         for _ in 0..self.steps {
             sim.step(Real::INFINITY)?;
         }
         let wall_s = start.elapsed().as_secs_f64();
         Ok(Sample {
-            particles: sim.scene.particles.len(),
+            particles: sim.scene().particles.len(),
             steps: self.steps,
             wall_s,
-            phases: minus(&sim.phases, &warm),
+            phases: minus(sim.phases(), &warm),
             peak_rss: rss_kib("VmHWM:").map(|k| k * 1024),
             base_rss: self.base_rss,
             accounted: sim.bytes(),

@@ -51,6 +51,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         threads,
         clock(guess.wall_time_s)
     );
+    if let Some(r) = &guess.reduced {
+        eprintln!(
+            "  (discretization.model \"{}\" would run it in about {}, {:.0}x less; it cannot show {})",
+            r.model.name(),
+            clock(r.wall_time_s),
+            r.speedup,
+            r.cannot_show
+        );
+    }
 
     let cancel = Arc::new(AtomicBool::new(false));
     install_ctrl_c(cancel.clone());

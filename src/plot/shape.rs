@@ -6,7 +6,7 @@
 //! projection, far particles drawn first. Lengths in mm.
 
 use super::font;
-use crate::solver::case::LoadingMode;
+use crate::solver::case::{LoadingMode, Model};
 use crate::solver::Case;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -21,6 +21,11 @@ struct TubeShape<'a> {
     plastic_strain: &'a [f32],
     /// Particle spacing h, mm: the side of each drawn square.
     spacing_mm: f64,
+    /// A reduced model's own section, drawn (squares of `spacing_mm`) in the section view in
+    /// place of a cut through `position_mm`, which is then the revolved or extruded tube drawn
+    /// in squares of `whole_spacing_mm`. None for 3D.
+    section: Option<Cut<'a>>,
+    whole_spacing_mm: f64,
     /// The tube axis is x (lateral loading) rather than z (axial).
     axis_x: bool,
 }
@@ -29,6 +34,13 @@ const SIZE: (u32, u32) = (1280, 520);
 const TITLE_PX: i32 = 44;
 const LABEL_PX: i32 = 30;
 const BAR_PX: i32 = 110;
+
+/// Particles in a plane, with their strains.
+#[derive(Debug, Clone, Copy)]
+struct Cut<'a> {
+    position_mm: &'a [[f32; 3]],
+    plastic_strain: &'a [f32],
+}
 
 /// A direction to look from: screen right and up, and an optional slab (normal, half width in
 /// spacings) that keeps only the particles near the centre plane.
@@ -120,13 +132,103 @@ pub fn tube_png(
     position_mm: &[[f32; 3]],
     plastic_strain: &[f32],
 ) -> anyhow::Result<Vec<u8>> {
+    anyhow::ensure!(
+        position_mm.len() == plastic_strain.len(),
+        "{} positions but {} strains",
+        position_mm.len(),
+        plastic_strain.len()
+    );
+    let spec = case.spec();
+    let model = spec.discretization.model;
+    let h = case.spacing_mm();
+    let axis_x = spec.loading.mode == LoadingMode::Lateral;
+    if model == Model::ThreeD {
+        return shape_png(&TubeShape {
+            title,
+            position_mm,
+            plastic_strain,
+            spacing_mm: h,
+            section: None,
+            whole_spacing_mm: h,
+            axis_x,
+        });
+    }
+    let (whole, whole_strain, whole_spacing) = whole_tube(case, position_mm, plastic_strain);
+    // The axisymmetric section through the axis shows both walls: the section and its mirror.
+    let (mut cut, mut cut_strain) = (position_mm.to_vec(), plastic_strain.to_vec());
+    if model == Model::Axisymmetric {
+        cut.extend(position_mm.iter().map(|p| [-p[0], p[1], p[2]]));
+        cut_strain.extend_from_slice(plastic_strain);
+    }
+    let how = match model {
+        Model::Axisymmetric => "axisymmetric section, revolved",
+        _ => "plane-strain section, extruded",
+    };
     shape_png(&TubeShape {
-        title,
-        position_mm,
-        plastic_strain,
-        spacing_mm: case.spacing_mm(),
-        axis_x: case.spec().loading.mode == LoadingMode::Lateral,
+        title: &format!("{title} ({how})"),
+        position_mm: &whole,
+        plastic_strain: &whole_strain,
+        spacing_mm: h,
+        section: Some(Cut {
+            position_mm: &cut,
+            plastic_strain: &cut_strain,
+        }),
+        whole_spacing_mm: whole_spacing,
+        axis_x,
     })
+}
+
+/// Most points a reduced model's picture draws of the whole tube.
+const WHOLE_TUBE_POINTS: usize = 250_000;
+
+/// A reduced model's section as the tube it stands for: revolved about the axis
+/// (axisymmetric; positions (r, 0, z)) or extruded along x (plane strain; positions
+/// (l/2, y, z)), in copies about a particle spacing apart up to [`WHOLE_TUBE_POINTS`] in all.
+/// Also the side of the squares that close the gaps between copies, mm.
+fn whole_tube(
+    case: &Case,
+    position: &[[f32; 3]],
+    strain: &[f32],
+) -> (Vec<[f32; 3]>, Vec<f32>, f64) {
+    let spec = case.spec();
+    let (h, d, l) = (
+        case.spacing_mm(),
+        spec.tube.mean_diameter_mm,
+        spec.tube.length_mm,
+    );
+    let budget = (WHOLE_TUBE_POINTS / position.len().max(1)).max(2);
+    let axisymmetric = spec.discretization.model == Model::Axisymmetric;
+    let copies = if axisymmetric {
+        ((std::f64::consts::TAU * d / h).round() as usize).clamp(2, budget)
+    } else {
+        ((l / h).round() as usize).clamp(1, budget)
+    };
+    let reach = position
+        .iter()
+        .map(|p| p[0].abs() as f64)
+        .fold(0.5 * d, f64::max);
+    let gap = if axisymmetric {
+        std::f64::consts::TAU * reach / copies as f64
+    } else {
+        l / copies as f64
+    };
+    let mut x = Vec::with_capacity(copies * position.len());
+    let mut e = Vec::with_capacity(copies * position.len());
+    for k in 0..copies {
+        let share = k as f64 / copies as f64;
+        let (sin, cos) = (std::f64::consts::TAU * share).sin_cos();
+        let (sin, cos) = (sin as f32, cos as f32);
+        let along = (l * (k as f64 + 0.5) / copies as f64) as f32;
+        for (p, &strain) in position.iter().zip(strain) {
+            x.push(if axisymmetric {
+                [p[0] * cos, p[0] * sin, p[2]]
+            } else {
+                [along, p[1], p[2]]
+            });
+            e.push(strain);
+        }
+    }
+    (x, e, gap.max(h))
 }
 
 /// The picture as PNG bytes.
@@ -178,7 +280,26 @@ fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
         let area = root
             .clone()
             .shrink((x0, TITLE_PX), (panel_w as u32, h - TITLE_PX as u32));
-        draw_view(&area, shape, view, top, text)?;
+        let (points, strain, spacing, slab) = match (view.slab, shape.section) {
+            (Some(_), Some(cut)) => (cut.position_mm, cut.plastic_strain, shape.spacing_mm, None),
+            (slab, _) => (
+                shape.position_mm,
+                shape.plastic_strain,
+                if slab.is_some() {
+                    shape.spacing_mm
+                } else {
+                    shape.whole_spacing_mm
+                },
+                slab,
+            ),
+        };
+        let shown = Shown {
+            position_mm: points,
+            plastic_strain: strain,
+            spacing_mm: spacing,
+            slab,
+        };
+        draw_view(&area, &shown, view, top, text)?;
     }
     let bar = root
         .clone()
@@ -186,7 +307,15 @@ fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
     colour_bar(&bar, top, text)
 }
 
-fn draw_view(area: &Area, shape: &TubeShape, view: &View, top: f64, text: bool) -> DrawResult {
+/// What one view draws: its points, their squares' side, and the slab that cuts them, if any.
+struct Shown<'a> {
+    position_mm: &'a [[f32; 3]],
+    plastic_strain: &'a [f32],
+    spacing_mm: f64,
+    slab: Option<([f64; 3], f64)>,
+}
+
+fn draw_view(area: &Area, shape: &Shown, view: &View, top: f64, text: bool) -> DrawResult {
     let (pw, ph) = area.dim_in_pixel();
     let toward = cross(view.right, view.up);
     let centre = centroid(shape.position_mm);
@@ -198,7 +327,7 @@ fn draw_view(area: &Area, shape: &TubeShape, view: &View, top: f64, text: bool) 
         .zip(shape.plastic_strain)
         .filter_map(|(x, &e)| {
             let x = [x[0] as f64, x[1] as f64, x[2] as f64];
-            if let Some((normal, half)) = view.slab {
+            if let Some((normal, half)) = shape.slab {
                 let off = [x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]];
                 if dot(off, normal).abs() > half * spacing {
                     return None;
@@ -328,6 +457,8 @@ mod tests {
             position_mm: &x,
             plastic_strain: &e,
             spacing_mm: 1.0,
+            section: None,
+            whole_spacing_mm: 1.0,
             axis_x: false,
         })
         .unwrap();
@@ -350,6 +481,42 @@ mod tests {
         assert_eq!(strain_scale(&[f32::NAN]), 1e-6);
     }
 
+    /// A reduced model's section is drawn as the tube it stands for: revolved into copies
+    /// around the axis (at most the budget of points), or extruded along it.
+    #[test]
+    fn a_section_is_drawn_as_its_whole_tube() {
+        use crate::solver::{scene::lattice_positions, Limits};
+        for text in [
+            r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 2}}"#,
+            r#"{"loading": {"mode": "lateral"}, "discretization": {"model": "plane_strain"}}"#,
+        ] {
+            let case = Case::from_json(text, &Limits::default()).unwrap();
+            let x: Vec<[f32; 3]> = lattice_positions(&case)
+                .iter()
+                .map(|p| p.map(|v| v as f32))
+                .collect();
+            let e = vec![0.5f32; x.len()];
+            let (whole, strain, gap) = whole_tube(&case, &x, &e);
+            assert!(
+                whole.len() > 10 * x.len() && whole.len() <= WHOLE_TUBE_POINTS,
+                "{text}"
+            );
+            assert_eq!(strain.len(), whole.len());
+            assert!(gap >= case.spacing_mm(), "{text}");
+            // Every copy of a section point lies at its radius from the axis.
+            let axial = text.contains("axisym");
+            for (p, q) in whole.iter().zip(x.iter().cycle()) {
+                if axial {
+                    assert!((p[0].hypot(p[1]) - q[0]).abs() < 1e-4);
+                } else {
+                    assert_eq!((p[1], p[2]), (q[1], q[2]));
+                }
+            }
+            let png = tube_png(&case, "t", &x, &e).unwrap();
+            assert!(image::load_from_memory(&png).is_ok());
+        }
+    }
+
     #[test]
     fn mismatched_arrays_are_refused() {
         let (x, _) = tube();
@@ -358,6 +525,8 @@ mod tests {
             position_mm: &x,
             plastic_strain: &[0.0],
             spacing_mm: 1.0,
+            section: None,
+            whole_spacing_mm: 1.0,
             axis_x: false,
         })
         .is_err());

@@ -113,10 +113,11 @@ const SPECS: &[Spec] = &[
     num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral)."),
     num("loading.ramp_mm", "Start ramp", "mm", Some((0.0, false)), None, "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Empty: 0.5 mm, or half the crush distance if less. At most the crush distance."),
     num("contact.friction", "Plate friction μ", "", Some((0.0, false)), Some((2.0, false)), "Coulomb friction between tube and plates."),
-    Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((16.0, false)), "Spacing h = t / n. Cost grows about as n⁴.") },
+    Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((64.0, false)), "Spacing h = t / n. At most 16 in 3D (cost about n⁴), 64 in the reduced models (cost about n³).") },
     num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),
     num("discretization.cfl", "CFL number α", "", POSITIVE, Some((1.0, false)), "Δt = α · cell / max(c + |v|)."),
     other("discretization.shape", "Shape functions", Kind::Choice, &["gimp", "linear"], "gimp: uniform GIMP; linear: trilinear hats."),
+    other("discretization.model", "Model", Kind::Choice, &["3d", "axisymmetric", "plane_strain"], "3d: the whole tube. axisymmetric (axial, no trigger): the (r, z) section, ring folding only, seconds instead of minutes. plane_strain (lateral, no trigger): the cross-section, no end effects."),
     other("discretization.volumetric_averaging", "Volumetric averaging", Kind::Boolean, &[], "One volumetric strain rate per cell, against locking."),
     num("trigger.weak_fraction", "Weak-particle fraction", "", Some((0.0, false)), Some((0.1, false)), "0 disables the trigger."),
     num("trigger.strength_ratio", "Weak-particle strength ratio", "", POSITIVE, Some((1.0, false)), "Yield stress of a weak particle over σy."),
@@ -162,8 +163,17 @@ mod tests {
     /// never speaks).
     fn case_with(field: &str, value: Value) -> Result<Case, CaseError> {
         let mut spec = serde_json::to_value(CaseSpec::default()).unwrap();
-        let mut at = &mut spec;
         let parts: Vec<&str> = field.split('.').collect();
+        // The bounds and choices that depend on the model, tried where they apply: n past 3D's
+        // 16 on the axisymmetric model, plane strain on a lateral crush.
+        let fine_n = value.as_f64().is_some_and(|n| n > 16.0);
+        if field == "discretization.particles_through_thickness" && fine_n {
+            spec["discretization"]["model"] = "axisymmetric".into();
+        }
+        if field == "discretization.model" && value == "plane_strain" {
+            spec["loading"]["mode"] = "lateral".into();
+        }
+        let mut at = &mut spec;
         for p in &parts[..parts.len() - 1] {
             at = at.get_mut(*p).unwrap();
         }

@@ -71,6 +71,7 @@ pub fn write_vtu(
     out: &mut impl Write,
     initial_mm: &[[f64; 3]],
     state: &FinalState,
+    note: Option<&str>,
 ) -> io::Result<()> {
     if initial_mm.len() != state.len() {
         return Err(io::Error::other(format!(
@@ -84,8 +85,15 @@ pub fn write_vtu(
         out,
         "<?xml version=\"1.0\"?>\n\
          <VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" \
-         header_type=\"UInt64\">\n<UnstructuredGrid>\n\
-         <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n<PointData>\n"
+         header_type=\"UInt64\">\n"
+    )?;
+    if let Some(note) = note {
+        // A comment may not hold "--".
+        writeln!(out, "<!-- {} -->", note.replace("--", "- -"))?;
+    }
+    write!(
+        out,
+        "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n<PointData>\n"
     )?;
     array(out, "Float32", Some("plastic_strain"), 1, n * 4, |w| {
         for e in &state.plastic_strain {
@@ -154,7 +162,7 @@ fn array<W: Write>(
 /// The state as a `.vtu` document in memory (tests, small states).
 pub fn vtu(initial_mm: &[[f64; 3]], state: &FinalState) -> io::Result<Vec<u8>> {
     let mut out = Vec::new();
-    write_vtu(&mut out, initial_mm, state)?;
+    write_vtu(&mut out, initial_mm, state, None)?;
     Ok(out)
 }
 

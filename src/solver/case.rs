@@ -144,6 +144,43 @@ pub enum ShapeKind {
     Gimp,
 }
 
+/// Which kinematics the solver models. The reduced models run the tube's section (the same
+/// particles, grid, shape functions, contact and material as 3D, on two axes) and report
+/// whole-tube loads and energies; they show only what their symmetry allows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Model {
+    /// The whole tube in 3D.
+    #[default]
+    #[serde(rename = "3d")]
+    ThreeD,
+    /// The (r, z) half-plane of an axially loaded tube: every ring mode, no lobes, no buckling.
+    #[serde(rename = "axisymmetric")]
+    Axisymmetric,
+    /// The cross-section of a laterally loaded tube, ε along the axis zero: no end effects.
+    #[serde(rename = "plane_strain")]
+    PlaneStrain,
+}
+
+impl Model {
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::ThreeD => "3d",
+            Model::Axisymmetric => "axisymmetric",
+            Model::PlaneStrain => "plane_strain",
+        }
+    }
+
+    /// The largest n the model accepts: a section holds n² / (3D's n²·π d / t) of the particles,
+    /// so the reduced models can go far finer than 3D for the same cost.
+    pub fn max_particles_through_thickness(self) -> u32 {
+        match self {
+            Model::ThreeD => 16,
+            Model::Axisymmetric | Model::PlaneStrain => 64,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Discretization {
@@ -158,6 +195,8 @@ pub struct Discretization {
     /// Share one volumetric strain rate and one pressure among the particles of each grid cell
     /// (as in a Q1–P0 element), against volumetric locking of the incompressible plastic flow.
     pub volumetric_averaging: bool,
+    /// 3D, or a reduced model for a scene with a symmetry (see [`Model`]).
+    pub model: Model,
 }
 
 impl Default for Discretization {
@@ -168,6 +207,7 @@ impl Default for Discretization {
             cfl: 0.5,
             shape: ShapeKind::Gimp,
             volumetric_averaging: true,
+            model: Model::ThreeD,
         }
     }
 }
@@ -423,11 +463,37 @@ impl Case {
             "must be in [0, 2]",
         );
         let d = &spec.discretization;
-        if !(1..=16).contains(&d.particles_through_thickness) {
+        let max_n = d.model.max_particles_through_thickness();
+        if !(1..=max_n).contains(&d.particles_through_thickness) {
             c.fail(
                 "discretization.particles_through_thickness",
-                "must be an integer in [1, 16]",
+                &format!(
+                    "must be an integer in [1, {max_n}] (model {})",
+                    d.model.name()
+                ),
             );
+        }
+        match (d.model, l.mode) {
+            (Model::Axisymmetric, LoadingMode::Lateral) => c.fail(
+                "discretization.model",
+                "axisymmetric needs axial loading: a lateral crush is not axisymmetric \
+                 (use plane_strain)",
+            ),
+            (Model::PlaneStrain, LoadingMode::Axial) => c.fail(
+                "discretization.model",
+                "plane_strain needs lateral loading: an axial crush is not plane strain \
+                 (use axisymmetric)",
+            ),
+            _ => {}
+        }
+        if d.model != Model::ThreeD && spec.trigger.weak_fraction > 0.0 {
+            let reason = format!(
+                "a trigger's weak particles lie at random places around and along the tube, \
+                 which the {} section cannot hold: set trigger.weak_fraction to 0 or use model 3d",
+                d.model.name()
+            );
+            c.fail("discretization.model", &reason);
+            c.fail("trigger.weak_fraction", &reason);
         }
         c.range(
             "discretization.cell_to_particle_ratio",
@@ -558,9 +624,18 @@ fn particle_count(spec: &CaseSpec) -> u64 {
     let h = t / n as f64;
     let inner = spec.tube.mean_diameter_mm / 2.0 - t / 2.0;
     let axial = layers_along(spec.tube.length_mm, h);
-    (0..n)
-        .map(|j| around(inner + (j as f64 + 0.5) * h, h) * axial)
-        .sum()
+    let around_all = || {
+        (0..n)
+            .map(|j| around(inner + (j as f64 + 0.5) * h, h))
+            .sum::<u64>()
+    };
+    match spec.discretization.model {
+        Model::ThreeD => around_all() * axial,
+        // The (r, z) section: n layers by the layers along.
+        Model::Axisymmetric => n * axial,
+        // The cross-section: the rings of one layer along.
+        Model::PlaneStrain => around_all(),
+    }
 }
 
 /// The same count in floating point, for any case whose fields passed their own checks: it
@@ -571,12 +646,19 @@ fn particles_f64(spec: &CaseSpec) -> f64 {
     let h = t / n;
     let inner = spec.tube.mean_diameter_mm / 2.0 - t / 2.0;
     let axial = (spec.tube.length_mm / h).round().max(1.0);
-    (0..spec.discretization.particles_through_thickness)
-        .map(|j| {
-            let r = inner + (j as f64 + 0.5) * h;
-            (2.0 * std::f64::consts::PI * r / h).round().max(8.0) * axial
-        })
-        .sum()
+    let around_all = || -> f64 {
+        (0..spec.discretization.particles_through_thickness)
+            .map(|j| {
+                let r = inner + (j as f64 + 0.5) * h;
+                (2.0 * std::f64::consts::PI * r / h).round().max(8.0)
+            })
+            .sum()
+    };
+    match spec.discretization.model {
+        Model::ThreeD => around_all() * axial,
+        Model::Axisymmetric => n * axial,
+        Model::PlaneStrain => around_all(),
+    }
 }
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
@@ -933,6 +1015,76 @@ mod tests {
             assert!(named.contains(f), "{f} not in {named:?}");
         }
         assert!(errors[0].reason.contains("particle-steps"), "{errors:?}");
+    }
+
+    /// A reduced model that does not fit the scene is refused with the field and the reason.
+    #[test]
+    fn a_reduced_model_must_fit_the_scene() {
+        let fields = |text: &str| match Case::from_json(text, &Limits::default()) {
+            Err(CaseError::Invalid(errors)) => errors
+                .into_iter()
+                .map(|e| (e.field, e.reason))
+                .collect::<Vec<_>>(),
+            other => panic!("{text}: {other:?}"),
+        };
+        let e = fields(
+            r#"{"loading": {"mode": "lateral"}, "discretization": {"model": "axisymmetric"}}"#,
+        );
+        assert_eq!(e.len(), 1);
+        assert_eq!(e[0].0, "discretization.model");
+        assert!(e[0].1.contains("not axisymmetric"), "{e:?}");
+        let e = fields(r#"{"discretization": {"model": "plane_strain"}}"#);
+        assert!(
+            e[0].0 == "discretization.model" && e[0].1.contains("lateral"),
+            "{e:?}"
+        );
+        let e = fields(
+            r#"{"discretization": {"model": "axisymmetric"}, "trigger": {"weak_fraction": 0.003}}"#,
+        );
+        let named: Vec<&str> = e.iter().map(|e| e.0.as_str()).collect();
+        assert_eq!(named, ["discretization.model", "trigger.weak_fraction"]);
+        // 3D stops at n = 16; a section at 64.
+        let e = fields(r#"{"discretization": {"particles_through_thickness": 17}}"#);
+        assert!(e[0].1.contains("[1, 16]"), "{e:?}");
+        let fine =
+            r#"{"discretization": {"particles_through_thickness": 64, "model": "axisymmetric"}}"#;
+        assert!(Case::from_json(fine, &Limits::default()).is_ok());
+        let e = fields(&fine.replace("64", "65"));
+        assert!(e[0].1.contains("[1, 64]"), "{e:?}");
+    }
+
+    /// A section's particle count: n layers by the layers along (axisymmetric), the rings of
+    /// one layer along (plane strain); the scene lays out exactly that many.
+    #[test]
+    fn a_section_counts_what_its_scene_lays_out() {
+        for (text, want) in [
+            (
+                r#"{"discretization": {"particles_through_thickness": 6, "model": "axisymmetric"}}"#,
+                6 * 143,
+            ),
+            (
+                r#"{"loading": {"mode": "lateral"}, "discretization": {"model": "plane_strain"}}"#,
+                0,
+            ),
+        ] {
+            let case = Case::from_json(text, &Limits::default()).unwrap();
+            let scene = crate::solver::scene::Scene::from_case(&case);
+            assert_eq!(
+                scene.particles.len() as u64,
+                case.particle_count(),
+                "{text}"
+            );
+            if want > 0 {
+                assert_eq!(case.particle_count(), want);
+            }
+            // The section's volumes add up to the tube's, π·d·t·l.
+            let vol: f64 = scene.particles.vol.iter().sum();
+            let exact = std::f64::consts::PI * 22.2 * 3.2 * 76.2;
+            assert!(
+                (vol / exact - 1.0).abs() < 1e-12,
+                "{text}: {vol} vs {exact}"
+            );
+        }
     }
 
     #[test]

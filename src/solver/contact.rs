@@ -27,6 +27,10 @@ use super::scene::Plate;
 use super::Real;
 use nalgebra::Vector3;
 
+/// A particle touches a plate when its edge is within this share of its half-size of the
+/// surface: far more than the few micrometres it moves in a step, far less than its size.
+pub const CONTACT_TOLERANCE: Real = 0.05;
+
 /// What contact did over one step, summed over nodes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactSums {

@@ -26,7 +26,7 @@
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
 
-use super::case::LoadingMode;
+use super::case::{LoadingMode, Model};
 use super::{Case, Real, Snapshot};
 
 /// The rise and fall of the outer profile that makes a fold, in wall thicknesses. Measured:
@@ -52,6 +52,11 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         return 0;
     }
     let (t, d) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm);
+    if spec.discretization.model == Model::Axisymmetric {
+        // The section is one wall line: its reach is the radius itself.
+        let line = section_line(snapshot, case.spacing_mm(), 0.5 * (d + t));
+        return count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t);
+    }
     let lines = wall_lines(snapshot, case.spacing_mm(), 0.5 * (d + t));
     let count = |line: &Vec<Real>| match line.is_empty() {
         true => None,
@@ -120,6 +125,27 @@ fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
                 .map(|r| r - outer)
                 .collect()
         })
+        .collect()
+}
+
+/// An axisymmetric section's outer profile: per material slice of width `h` along z (bottom to
+/// top, empty slices left out), the largest radius of its particles less `outer`.
+fn section_line(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Real> {
+    let mut reach: Vec<Real> = Vec::new();
+    for (a, p) in snapshot.initial_mm.iter().zip(&snapshot.position_mm) {
+        if !(a[2].is_finite() && p[0].is_finite()) {
+            continue;
+        }
+        let k = (a[2] / h).floor().max(0.0) as usize;
+        if reach.len() <= k {
+            reach.resize(k + 1, Real::MIN);
+        }
+        reach[k] = reach[k].max(p[0]);
+    }
+    reach
+        .into_iter()
+        .filter(|&r| r > Real::MIN)
+        .map(|r| r - outer)
         .collect()
 }
 

@@ -55,6 +55,16 @@ impl Elastoplastic {
         }
     }
 
+    /// The yield stress for the plastic-work books, MPa: 0 for a material that never yields, so
+    /// that its zero plastic strain books zero work (∞ · 0 would book NaN).
+    pub fn finite_yield_stress(&self) -> Real {
+        if self.yield_stress.is_finite() {
+            self.yield_stress
+        } else {
+            0.0
+        }
+    }
+
     /// P-wave (constrained) modulus λ + 2G, MPa: c² = M / ρ.
     pub fn p_wave_modulus(&self) -> Real {
         self.lambda + 2.0 * self.shear
@@ -155,6 +165,46 @@ impl Elastoplastic {
             plastic_strain,
             stress_power,
         }
+    }
+}
+
+impl Elastoplastic {
+    /// [`Elastoplastic::update_lanes`] on four particles at once, one per lane of `f64x4`:
+    /// their stresses, velocity gradients (1/ms) and yield scales in, the increments out. The
+    /// same bits as four scalar updates; a lane of zero stress and gradient stays zero (callers
+    /// fill short groups so).
+    #[inline(always)]
+    pub fn update_four(
+        &self,
+        stress: &mut [Sym; 4],
+        l: &[Matrix3<Real>; 4],
+        dt: Real,
+        yield_scale: [Real; 4],
+    ) -> [Increment; 4] {
+        // Plain loops: closures over arrays here were measured not inlined in one build (the
+        // stress phase 40 % slower).
+        let mut lv = [[f64x4::splat(0.0); 3]; 3];
+        for r in 0..3 {
+            for k in 0..3 {
+                lv[r][k] = f64x4::new([l[0][(r, k)], l[1][(r, k)], l[2][(r, k)], l[3][(r, k)]]);
+            }
+        }
+        let mut sv = [f64x4::splat(0.0); 6];
+        for (k, v) in sv.iter_mut().enumerate() {
+            *v = f64x4::new([stress[0][k], stress[1][k], stress[2][k], stress[3][k]]);
+        }
+        let inc = self.update_lanes(&mut sv, &lv, dt, f64x4::new(yield_scale));
+        let (plastic, power) = (inc.plastic_strain.to_array(), inc.stress_power.to_array());
+        for (k, v) in sv.iter().enumerate() {
+            let a = v.to_array();
+            for j in 0..4 {
+                stress[j][k] = a[j];
+            }
+        }
+        [0, 1, 2, 3].map(|j| Increment {
+            plastic_strain: plastic[j],
+            stress_power: power[j],
+        })
     }
 }
 

@@ -16,6 +16,7 @@ pub mod observer;
 pub mod particles;
 pub mod reference;
 pub mod scene;
+pub mod section;
 pub mod shape;
 pub mod step;
 pub mod summary;

@@ -31,7 +31,7 @@
 //! that did not fold reads as ring, and the detail says so). Lateral loading is always
 //! [`CollapseMode::Flattening`]; its detail is computed the same way about the x axis.
 
-use super::case::LoadingMode;
+use super::case::{LoadingMode, Model};
 use super::summary::CollapseMode;
 use super::{Case, Real, Snapshot};
 use serde::{Deserialize, Serialize};
@@ -124,6 +124,12 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         harmonic_amplitude_mm: vec![0.0; MAX_HARMONIC + 1],
         ..Default::default()
     };
+    if spec.discretization.model == Model::Axisymmetric {
+        return (
+            CollapseMode::Ring,
+            axisymmetric_detail(case, snapshot, detail),
+        );
+    }
     let slices = slice_up(snapshot, axes, case.spacing_mm(), &mut detail);
     detail.slices = slices.len() as u32;
 
@@ -194,6 +200,50 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             detail,
         )
     }
+}
+
+/// The detail of an axisymmetric run's section (positions (r, 0, z)), which can fold only as a
+/// ring: per material slice one spacing thick, the mean radial displacement is harmonic 0; the
+/// other harmonics and the drift are zero by the model's symmetry.
+fn axisymmetric_detail(case: &Case, snapshot: &Snapshot, mut detail: ModeDetail) -> ModeDetail {
+    let h = case.spacing_mm();
+    let t = case.spec().tube.thickness_mm;
+    let mut slices: Vec<(usize, Real, Real)> = Vec::new();
+    for (x0, x) in snapshot.initial_mm.iter().zip(&snapshot.position_mm) {
+        let k = (x0[2] / h).floor().max(0.0) as usize;
+        if slices.len() <= k {
+            slices.resize(k + 1, (0, 0.0, 0.0));
+        }
+        let w = x[0] - x0[0];
+        slices[k].0 += 1;
+        slices[k].1 += w;
+        slices[k].2 += w * w;
+    }
+    slices.retain(|s| s.0 > 0);
+    let rms = |s: &(usize, Real, Real)| (s.2 / s.0 as Real).sqrt();
+    let max_rms = slices.iter().map(rms).fold(0.0, Real::max);
+    let folded: Vec<_> = slices
+        .iter()
+        .filter(|s| rms(s) >= (FOLDED_FRACTION * max_rms).max(FOLDED_MIN_T * t))
+        .collect();
+    let used = if folded.is_empty() {
+        slices.iter().collect()
+    } else {
+        folded.clone()
+    };
+    detail.slices = slices.len() as u32;
+    detail.folded_slices = folded.len() as u32;
+    detail.slice_width_mm = h;
+    if !used.is_empty() {
+        detail.harmonic_amplitude_mm[0] =
+            used.iter().map(|s| (s.1 / s.0 as Real).abs()).sum::<Real>() / used.len() as Real;
+    }
+    detail.reason = format!(
+        "axisymmetric model: the section folds only as a ring (axisymmetric amplitude {:.3} mm; \
+         lobes and drift are outside what the model can show)",
+        detail.harmonic_amplitude_mm[0]
+    );
+    detail
 }
 
 /// Bins particles by initial axial coordinate; keeps slices with enough particles, in axial order.

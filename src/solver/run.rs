@@ -4,9 +4,8 @@
 
 use super::case::Case;
 use super::observer::{Observer, Progress};
-use super::scene::{lattice_positions, Scene, BOTTOM, TOP};
-use super::shape::Stencil;
-use super::step::{simulate, Driver, Simulation};
+use super::scene::{lattice_positions, reported, Scene, BOTTOM, TOP};
+use super::step::{simulate, Driver, Engine};
 use super::summary::{self, RunCost};
 use super::{HistoryRow, Real, RunOutput, Snapshot, SolveError};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -32,17 +31,17 @@ pub fn run_scene(
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
     let start = Instant::now();
-    let shape = case.spec().discretization.shape;
+    let d = &case.spec().discretization;
     let run = Run {
         case,
         observer,
         cancel,
         start,
     };
-    simulate(shape, scene, run)
+    simulate(d.model, d.shape, scene, run)
 }
 
-/// The loop of one run, for whichever shape function the case chose.
+/// The loop of one run, for whichever model and shape function the case chose.
 struct Run<'a> {
     case: &'a Case,
     observer: &'a mut dyn Observer,
@@ -53,7 +52,7 @@ struct Run<'a> {
 impl Driver for Run<'_> {
     type Output = Result<RunOutput, SolveError>;
 
-    fn drive<S: Stencil>(self, mut sim: Simulation<S>) -> Self::Output {
+    fn drive<E: Engine>(self, mut sim: E) -> Self::Output {
         let Run {
             case,
             observer,
@@ -64,7 +63,7 @@ impl Driver for Run<'_> {
         let speed = spec.loading.plate_speed_m_s;
         let crush = case.crush_distance_mm();
         let points = spec.output.history_points as usize;
-        let ramp = sim.scene.ramp;
+        let ramp = sim.scene().ramp;
         // The time the plate would take at full speed; the rows are at equal travel.
         let duration = crush / speed;
         let mut rows = Vec::with_capacity(points);
@@ -76,26 +75,26 @@ impl Driver for Run<'_> {
         for k in 1..=points {
             let end = ramp.time_at(duration * k as Real / points as Real);
             let mut impulse = [0.0; 2];
-            let t0 = sim.time;
+            let t0 = sim.time();
             let mut kinetic = 0.0;
-            while end - sim.time > 1e-9 * duration {
+            while end - sim.time() > 1e-9 * duration {
                 if cancel.load(Ordering::Relaxed) {
-                    return Err(SolveError::Cancelled { step: sim.steps });
+                    return Err(SolveError::Cancelled { step: sim.steps() });
                 }
-                let info = sim.step(end - sim.time)?;
+                let info = sim.step(end - sim.time())?;
                 impulse[0] += info.contact.impulse[0];
                 impulse[1] += info.contact.impulse[1];
                 kinetic = info.kinetic;
                 cost.dt_min_ms = cost.dt_min_ms.min(info.stable_dt);
                 cost.dt_max_ms = cost.dt_max_ms.max(info.stable_dt);
-                cost.active_cells_max = cost.active_cells_max.max(sim.grid.len() as u64 * 64);
+                cost.active_cells_max = cost.active_cells_max.max(sim.active_cells());
                 runaway(&sim, kinetic)?;
             }
-            let interval = sim.time - t0;
-            let e = sim.energy;
+            let interval = sim.time() - t0;
+            let e = *sim.energy();
             let mut row = HistoryRow {
-                time_ms: sim.time,
-                displacement_mm: speed * ramp.full_speed_time(sim.time),
+                time_ms: sim.time(),
+                displacement_mm: speed * ramp.full_speed_time(sim.time()),
                 load_top_n: impulse[0] / interval,
                 load_bottom_n: impulse[1] / interval,
                 kinetic_mj: kinetic,
@@ -118,8 +117,8 @@ impl Driver for Run<'_> {
             let elapsed = start.elapsed().as_secs_f64();
             let fraction = k as Real / points as Real;
             observer.on_progress(&Progress {
-                step: sim.steps,
-                time_ms: sim.time,
+                step: sim.steps(),
+                time_ms: sim.time(),
                 displacement_mm: row.displacement_mm,
                 load_n: row.load_top_n,
                 fraction,
@@ -128,14 +127,15 @@ impl Driver for Run<'_> {
             });
             rows.push(row);
         }
-        let p = &sim.scene.particles;
+        let p = &sim.scene().particles;
+        let (model, length) = (spec.discretization.model, spec.tube.length_mm);
         let snapshot = Snapshot {
             initial_mm: lattice_positions(case),
-            position_mm: p.in_original_order(|i| [p.x[i].x, p.x[i].y, p.x[i].z]),
+            position_mm: p.in_original_order(|i| reported(model, length, &p.x[i])),
             plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
         };
         cost.particles = p.len() as u64;
-        cost.steps = sim.steps;
+        cost.steps = sim.steps();
         cost.wall_time_s = start.elapsed().as_secs_f64();
         cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
         cost.threads = rayon::current_num_threads() as u32;
@@ -156,12 +156,12 @@ impl Driver for Run<'_> {
 
 /// Kinetic energy can never exceed the work the plates put in (the tube starts at rest);
 /// 20 % above it means the integration is creating energy.
-fn runaway<S: Stencil>(sim: &Simulation<S>, kinetic: Real) -> Result<(), SolveError> {
-    let work = sim.energy.external();
+fn runaway<E: Engine>(sim: &E, kinetic: Real) -> Result<(), SolveError> {
+    let work = sim.energy().external();
     if !kinetic.is_finite() || kinetic > 1.2 * work + 1e-12 {
         return Err(SolveError::Unstable {
-            step: sim.steps,
-            time_ms: sim.time,
+            step: sim.steps(),
+            time_ms: sim.time(),
             what: format!(
                 "kinetic energy {kinetic:.4e} mJ exceeds the work done by the plates {work:.4e} mJ: \
                  the integration is creating energy (time step too large for the stiffness?)"
@@ -172,11 +172,12 @@ fn runaway<S: Stencil>(sim: &Simulation<S>, kinetic: Real) -> Result<(), SolveEr
 }
 
 /// Mean of the gaps between each plate and the nearest particle edge, mm.
-fn contact_gap<S: Stencil>(sim: &Simulation<S>) -> Real {
-    let p = &sim.scene.particles;
-    let h = sim.scene.half_size;
+fn contact_gap<E: Engine>(sim: &E) -> Real {
+    let scene = sim.scene();
+    let p = &scene.particles;
+    let h = scene.half_size;
     let top = p.x.iter().map(|x| x.z).fold(Real::MIN, Real::max) + h;
     let bottom = p.x.iter().map(|x| x.z).fold(Real::MAX, Real::min) - h;
-    let plates = &sim.scene.plates;
+    let plates = &scene.plates;
     0.5 * ((plates[TOP].z - top) + (bottom - plates[BOTTOM].z))
 }

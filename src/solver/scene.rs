@@ -3,8 +3,14 @@
 //!
 //! Axial loading: tube axis z, bottom plate at z = 0 (fixed), top plate at z = l moving down.
 //! Lateral loading: tube axis x over 0..l, centred on y = z = 0, plates at z = ∓(d + t)/2.
+//!
+//! The reduced models lay out the section in the engine's x–z plane (y is the direction the
+//! symmetry removes, and stays 0): axisymmetric, x is the radius r and z the axis, each
+//! particle standing for its whole ring (volume 2π·r·area); plane strain, x and z are the
+//! cross-section's y and z of the lateral scene, each particle standing for the tube's length
+//! (volume area·l). Loads and energies are then those of the whole tube.
 
-use super::case::{around, layers_along, Case, LoadingMode, MaterialModel};
+use super::case::{around, layers_along, Case, LoadingMode, MaterialModel, Model};
 use super::material::Elastoplastic;
 use super::particles::Particles;
 use super::Real;
@@ -100,14 +106,12 @@ impl Scene {
         );
         let h = case.spacing_mm();
         let rho = spec.material.density_kg_m3 * 1e-6;
-        let particles = tube_lattice(
-            t,
-            d,
-            l,
-            spec.discretization.particles_through_thickness,
-            rho,
-            spec.loading.mode,
-        );
+        let n = spec.discretization.particles_through_thickness;
+        let model = spec.discretization.model;
+        let particles = match model {
+            Model::ThreeD => tube_lattice(t, d, l, n, rho, spec.loading.mode),
+            Model::Axisymmetric | Model::PlaneStrain => section_lattice(t, d, l, n, rho, model),
+        };
         let m = &spec.material;
         let yield_stress = match m.model {
             MaterialModel::J2 => m.yield_stress_mpa,
@@ -122,12 +126,19 @@ impl Scene {
         let reach = outer + l;
         let cell = case.cell_mm();
         let margin = 3.0 * cell;
-        let domain = match spec.loading.mode {
-            LoadingMode::Axial => [[-reach, -reach, -margin], [reach, reach, l + margin]],
-            LoadingMode::Lateral => [
+        let domain = match (model, spec.loading.mode) {
+            (Model::ThreeD, LoadingMode::Axial) => {
+                [[-reach, -reach, -margin], [reach, reach, l + margin]]
+            }
+            (Model::ThreeD, LoadingMode::Lateral) => [
                 [-reach, -reach, -outer - margin],
                 [l + reach, reach, outer + margin],
             ],
+            // A particle reaching the axis would divide by r = 0 in its hoop strain rate.
+            (_, LoadingMode::Axial) => [[0.0, 0.0, -margin], [reach, 0.0, l + margin]],
+            (_, LoadingMode::Lateral) => {
+                [[-reach, 0.0, -outer - margin], [reach, 0.0, outer + margin]]
+            }
         };
         let mut scene = Scene {
             particles,
@@ -167,6 +178,23 @@ impl Scene {
         scene
     }
 
+    /// Sets each plate's velocity for a step of `dt` from `time` (ms): its mean over the step,
+    /// so that its travel in the step is exact on the ramp.
+    pub fn set_plate_velocities(&mut self, time: Real, dt: Real) {
+        let ramp = self.ramp;
+        let share = (ramp.full_speed_time(time + dt) - ramp.full_speed_time(time)) / dt;
+        for plate in &mut self.plates {
+            plate.velocity = plate.full_velocity * share;
+        }
+    }
+
+    /// Moves each plate over a step of `dt` ms at the velocity the step used.
+    pub fn move_plates(&mut self, dt: Real) {
+        for plate in &mut self.plates {
+            plate.z += plate.velocity * dt;
+        }
+    }
+
     /// Dilatational wave speed of the undeformed material, mm/ms.
     pub fn wave_speed(&self) -> Real {
         (self.material.p_wave_modulus() / self.density).sqrt()
@@ -179,12 +207,20 @@ pub fn lattice_positions(case: &Case) -> Vec<[Real; 3]> {
     let spec = case.spec();
     // Only the positions: the full particle set is hundreds of bytes a particle, and this is
     // what every state download rebuilds (tests/api_download.rs).
-    let lattice = Lattice::new(
+    let (t, d, l) = (
         spec.tube.thickness_mm,
         spec.tube.mean_diameter_mm,
         spec.tube.length_mm,
-        spec.discretization.particles_through_thickness,
     );
+    let n = spec.discretization.particles_through_thickness;
+    let model = spec.discretization.model;
+    if model != Model::ThreeD {
+        return section_points(t, d, l, n, model)
+            .iter()
+            .map(|(x, _)| reported(model, l, x))
+            .collect();
+    }
+    let lattice = Lattice::new(t, d, l, n);
     let mut x = Vec::with_capacity(lattice.len());
     x.extend(
         lattice
@@ -246,6 +282,80 @@ impl Lattice {
                 })
             })
         })
+    }
+}
+
+/// The section a reduced model runs, as the engine holds it: per particle its centre in the
+/// x–z plane and the volume it stands for (see the module's note), mm and mm³. Axisymmetric:
+/// n layers through the wall by round(l/h) along, each the annulus π(r₁² − r₀²)·dz. Plane
+/// strain: the rings of [`Lattice`] in the y–z cross-section (y as x), each sector times l,
+/// ordered by angle.
+fn section_points(t: Real, d: Real, l: Real, n: u32, model: Model) -> Vec<(Vector3<Real>, Real)> {
+    let lattice = Lattice::new(t, d, l, n);
+    let h = t / n as Real;
+    let inner = d / 2.0 - t / 2.0;
+    match model {
+        Model::Axisymmetric => (0..lattice.along)
+            .flat_map(|k| {
+                let z = (k as Real + 0.5) * lattice.dz;
+                (0..n).map(move |j| {
+                    let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
+                    let vol = PI * (r1 * r1 - r0 * r0) * lattice.dz;
+                    (Vector3::new(0.5 * (r0 + r1), 0.0, z), vol)
+                })
+            })
+            .collect(),
+        Model::PlaneStrain | Model::ThreeD => {
+            let mut points: Vec<(Real, Vector3<Real>, Real)> = lattice
+                .rings
+                .iter()
+                .flat_map(|&(r, count, vol)| {
+                    (0..count).map(move |i| {
+                        let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
+                        let x = Vector3::new(r * th.cos(), 0.0, r * th.sin());
+                        (th, x, vol / lattice.dz * l)
+                    })
+                })
+                .collect();
+            // Around the ring, then out through the wall: a run of particles is an arc, and
+            // the scatter's patch over it small.
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            points.into_iter().map(|(_, x, vol)| (x, vol)).collect()
+        }
+    }
+}
+
+/// Particles of a reduced model's section (see [`section_points`]), of density `rho`.
+pub fn section_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, model: Model) -> Particles {
+    let mut p = Particles::default();
+    for (x, vol) in section_points(t, d, l, n, model) {
+        p.push(x, rho * vol, vol);
+    }
+    p
+}
+
+/// Where outputs put an engine position: the 3D scene's coordinates. Axisymmetric: (r, 0, z),
+/// the section at angle 0. Plane strain: the cross-section at mid-length, (l/2, x, z).
+pub fn reported(model: Model, length: Real, x: &Vector3<Real>) -> [Real; 3] {
+    match model {
+        Model::ThreeD | Model::Axisymmetric => [x.x, x.y, x.z],
+        Model::PlaneStrain => [0.5 * length, x.x, x.z],
+    }
+}
+
+/// What the points of a reduced model's outputs are, for a reader of the files: None for 3D.
+pub fn symmetry_note(case: &Case) -> Option<&'static str> {
+    match case.spec().discretization.model {
+        Model::ThreeD => None,
+        Model::Axisymmetric => Some(
+            "axisymmetric model: the points are the (r, z) section at angle 0 (x = r, y = 0); \
+             each stands for its ring about the z axis, and the tube is this section revolved",
+        ),
+        Model::PlaneStrain => Some(
+            "plane-strain model: the points are the cross-section at mid-length (x = l/2); each \
+             stands for a line of material along the tube axis x, and the tube is this section \
+             extruded over its length",
+        ),
     }
 }
 

@@ -7,7 +7,8 @@ use crate::plot::{self, Series};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
-use crate::solver::{scene::lattice_positions, Case, HistoryRow, Limits};
+use crate::solver::scene::{lattice_positions, symmetry_note};
+use crate::solver::{Case, HistoryRow, Limits};
 use axum::extract::{Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
@@ -136,7 +137,8 @@ pub async fn state_vtu(
             tx,
             buffer: Vec::with_capacity(CHUNK),
         };
-        let written = state::write_vtu(&mut sink, &lattice_positions(&case), &state)
+        let note = symmetry_note(&case);
+        let written = state::write_vtu(&mut sink, &lattice_positions(&case), &state, note)
             .and_then(|()| std::io::Write::flush(&mut sink));
         if let Err(e) = written {
             if e.kind() != std::io::ErrorKind::BrokenPipe {

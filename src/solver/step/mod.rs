@@ -26,14 +26,16 @@ mod stress;
 mod transfer;
 mod workspace;
 
-use super::case::ShapeKind;
+use super::case::{Model, ShapeKind};
 use super::contact::ContactSums;
 #[cfg(doc)]
 use super::grid::Node;
 use super::grid::{Full, Grid, Remap, Velocity, VelocityChange};
 use super::scene::Scene;
+use super::section::{Section, Symmetry};
 use super::shape::{Gimp, Linear, Stencil};
 use super::{Real, SolveError};
+pub(crate) use stress::diagnose;
 pub use workspace::Workspace;
 
 /// Every this many steps the particles are reordered block by block, so that the particles a
@@ -91,31 +93,52 @@ pub struct PhaseTimes {
     pub stress: f64,
 }
 
-struct Clock(std::time::Instant);
+/// Times the phases of a step.
+pub(crate) struct Clock(std::time::Instant);
 
 impl Clock {
-    fn start() -> Clock {
+    pub(crate) fn start() -> Clock {
         Clock(std::time::Instant::now())
     }
-    fn lap(&mut self, into: &mut f64) {
+    /// Adds the time since the last lap (or the start) to `into`.
+    pub(crate) fn lap(&mut self, into: &mut f64) {
         let now = std::time::Instant::now();
         *into += (now - self.0).as_secs_f64();
         self.0 = now;
     }
 }
 
-/// What to do with a simulation once its shape function is a type: [`simulate`] calls
-/// [`Driver::drive`] with the one the case chose.
-pub trait Driver {
-    type Output;
-    fn drive<S: Stencil>(self, sim: Simulation<S>) -> Self::Output;
+/// What the run loop and the benchmarks need of a model's time stepping: the 3D
+/// [`Simulation`] or a reduced model's [`Section`].
+pub trait Engine {
+    /// Advances one step of at most `dt_cap` ms.
+    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError>;
+    fn scene(&self) -> &Scene;
+    /// Simulated time, ms.
+    fn time(&self) -> Real;
+    fn steps(&self) -> u64;
+    fn energy(&self) -> &Energies;
+    /// Grid cells the last step spanned.
+    fn active_cells(&self) -> u64;
+    fn phases(&self) -> &PhaseTimes;
+    /// Bytes held by the particles, the grid and the working memory.
+    fn bytes(&self) -> usize;
 }
 
-/// The one place where the case's [`ShapeKind`] becomes the type `S`.
-pub fn simulate<D: Driver>(shape: ShapeKind, scene: Scene, driver: D) -> D::Output {
-    match shape {
-        ShapeKind::Linear => driver.drive(Simulation::<Linear>::new(scene)),
-        ShapeKind::Gimp => driver.drive(Simulation::<Gimp>::new(scene)),
+/// What to do with a simulation once its model and shape function are types: [`simulate`]
+/// calls [`Driver::drive`] with the one the case chose.
+pub trait Driver {
+    type Output;
+    fn drive<E: Engine>(self, sim: E) -> Self::Output;
+}
+
+/// The one place where the case's [`Model`] and [`ShapeKind`] become a type.
+pub fn simulate<D: Driver>(model: Model, shape: ShapeKind, scene: Scene, driver: D) -> D::Output {
+    match (Symmetry::of(model), shape) {
+        (None, ShapeKind::Linear) => driver.drive(Simulation::<Linear>::new(scene)),
+        (None, ShapeKind::Gimp) => driver.drive(Simulation::<Gimp>::new(scene)),
+        (Some(sym), ShapeKind::Linear) => driver.drive(Section::<Linear>::new(scene, sym)),
+        (Some(sym), ShapeKind::Gimp) => driver.drive(Section::<Gimp>::new(scene, sym)),
     }
 }
 
@@ -168,12 +191,7 @@ impl<S: Stencil> Simulation<S> {
     pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
         let stable_dt = self.stable_dt();
         let dt = stable_dt.min(dt_cap);
-        // The plates' mean velocity over the step: their travel in it is exact on the ramp.
-        let ramp = self.scene.ramp;
-        let share = (ramp.full_speed_time(self.time + dt) - ramp.full_speed_time(self.time)) / dt;
-        for plate in &mut self.scene.plates {
-            plate.velocity = plate.full_velocity * share;
-        }
+        self.scene.set_plate_velocities(self.time, dt);
         let (contact, kinetic) = self.advance(dt)?;
         let info = StepInfo {
             dt,
@@ -181,9 +199,7 @@ impl<S: Stencil> Simulation<S> {
             contact,
             kinetic,
         };
-        for plate in &mut self.scene.plates {
-            plate.z += plate.velocity * dt;
-        }
+        self.scene.move_plates(dt);
         self.time += dt;
         self.steps += 1;
         Ok(info)
@@ -224,5 +240,32 @@ impl<S: Stencil> Simulation<S> {
     /// Bytes held by the particles, the grid and the workspace.
     pub fn bytes(&self) -> usize {
         self.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
+    }
+}
+
+impl<S: Stencil> Engine for Simulation<S> {
+    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
+        Simulation::step(self, dt_cap)
+    }
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    fn time(&self) -> Real {
+        self.time
+    }
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+    fn energy(&self) -> &Energies {
+        &self.energy
+    }
+    fn active_cells(&self) -> u64 {
+        self.grid.len() as u64 * 64
+    }
+    fn phases(&self) -> &PhaseTimes {
+        &self.phases
+    }
+    fn bytes(&self) -> usize {
+        Simulation::bytes(self)
     }
 }

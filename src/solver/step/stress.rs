@@ -12,7 +12,6 @@ use super::workspace::Gradient;
 use super::Simulation;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
-use wide::f64x4;
 
 /// Particles per stress update in one go: one per lane of `f64x4`.
 const LANES: usize = 4;
@@ -90,6 +89,7 @@ impl<S: Stencil> Simulation<S> {
         });
         let material = self.scene.material;
         let modulus = material.p_wave_modulus();
+        let yield_stress = material.finite_yield_stress();
         let domain = self.scene.domain;
         let p = &mut self.scene.particles;
         let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
@@ -131,40 +131,19 @@ impl<S: Stencil> Simulation<S> {
                     // stress and gradient, which the update leaves at zero).
                     let mut sa = [[0.0; 6]; LANES];
                     sa[..lanes].copy_from_slice(&ss[first..first + lanes]);
-                    // Plain loops: closures over arrays here were measured not inlined in
-                    // one build (the stress phase 40 % slower).
-                    let mut lv = [[f64x4::splat(0.0); 3]; 3];
-                    for r in 0..3 {
-                        for k in 0..3 {
-                            let e = |j: usize| ls[j][(r, k)];
-                            lv[r][k] = f64x4::new([e(0), e(1), e(2), e(3)]);
-                        }
-                    }
-                    let mut sv = [f64x4::splat(0.0); 6];
-                    for (k, v) in sv.iter_mut().enumerate() {
-                        *v = f64x4::new([sa[0][k], sa[1][k], sa[2][k], sa[3][k]]);
-                    }
-                    let inc = material.update_lanes(&mut sv, &lv, dt, f64x4::new(scales));
-                    let (plastic, power) =
-                        (inc.plastic_strain.to_array(), inc.stress_power.to_array());
-                    let mut updated = [[0.0; LANES]; 6];
-                    for (a, v) in updated.iter_mut().zip(&sv) {
-                        *a = v.to_array();
-                    }
+                    let inc = material.update_four(&mut sa, &ls, dt, scales);
                     // Per particle again, in order: volume, books, checks. (These four at
                     // once too measured slower: the gathers cost more than the lanes saved.)
                     for j in 0..lanes {
                         let (i, q, l) = (first + j, c * CHUNK + first + j, &ls[j]);
-                        for (k, a) in updated.iter().enumerate() {
-                            ss[i][k] = a[j];
-                        }
+                        ss[i] = sa[j];
                         let before = vols[i];
                         vols[i] *= (Matrix3::identity() + l * dt).determinant();
-                        sums.work += power[j] * 0.5 * (before + vols[i]) * dt;
+                        sums.work += inc[j].stress_power * 0.5 * (before + vols[i]) * dt;
                         // Adding the zero increment of an elastic particle leaves both sums'
                         // bits as they are; no branch.
-                        eps[i] += plastic[j];
-                        sums.plastic += material.yield_stress * scales[j] * plastic[j] * vols[i];
+                        eps[i] += inc[j].plastic_strain;
+                        sums.plastic += yield_stress * scales[j] * inc[j].plastic_strain * vols[i];
                         sums.kinetic += 0.5 * mass[q] * vs[q].norm_squared();
                         sums.signal = sums
                             .signal
@@ -214,7 +193,7 @@ impl<S: Stencil> Simulation<S> {
 }
 
 /// What is wrong with a particle's state, if anything.
-fn diagnose(
+pub(crate) fn diagnose(
     x: &Vector3<Real>,
     s: &[Real; 6],
     vol: Real,

@@ -1,7 +1,7 @@
 //! Particle ↔ grid transfers: the scatter of a [`Transfer`] and the two gathers (velocity
 //! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
 
-use super::super::contact;
+use super::super::contact::{self, CONTACT_TOLERANCE};
 use super::super::grid::{Grid, Transfer};
 use super::super::material::to_matrix;
 use super::super::shape::Stencil;
@@ -13,10 +13,6 @@ use wide::f64x4;
 
 /// Particles per parallel work item in particle-order passes.
 pub const CHUNK: usize = 1024;
-
-/// A particle touches a plate when its edge is within this share of its half-size of the
-/// surface: far more than the few micrometres it moves in a step, far less than its size.
-const CONTACT_TOLERANCE: Real = 0.05;
 
 impl<S: Stencil> Simulation<S> {
     /// Particle → grid for transfer `T`, onto the padded buffers (timed as p2g), then reduced
