@@ -63,7 +63,8 @@ struct Scratch {
     gradient: Vec<Matrix3<Real>>,
     /// Per particle: the grid cell (index as a node's) it stood in at the start of the step.
     cell_of: Vec<u32>,
-    /// Per cell, with volumetric averaging: volume, volume-weighted dilation rate and pressure.
+    /// Per cell, with volumetric averaging: its particles' volume, then their volume-weighted
+    /// mean dilation rate (1/ms) and pressure (MPa).
     averages: Option<Vec<[Real; 3]>>,
     /// The scatter's per-run sums.
     patches: Vec<passes::Patch>,

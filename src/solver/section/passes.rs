@@ -1,7 +1,8 @@
 //! The passes of a section step (units: mm, ms, g, N, MPa, mJ): the scatters, the two node
 //! passes with the plates, the two gathers and the stress update. Particle passes that write
-//! only their own particle run in parallel; the scatters run in particle order on one thread
-//! (a section is small, and a fixed order keeps the bits independent of the thread count).
+//! only their own particle run in parallel; the scatters run in bands of particles, each into a
+//! patch of its own, added onto the grid in a fixed order (so the bits do not depend on the
+//! thread count); the node passes, over a few thousand nodes, run on one thread.
 
 use super::super::contact::{self, ContactSums, CONTACT_TOLERANCE};
 use super::super::grid::Transfer;
