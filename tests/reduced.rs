@@ -113,7 +113,6 @@ fn an_elastic_ring_between_plates_has_the_thin_ring_stiffness() {
         / 12.0
         / (r.powi(3) * (std::f64::consts::PI / 4.0 - 2.0 / std::f64::consts::PI));
     let got = slope(&out, 0.08, 0.2);
-    eprintln!("{shape}: {got:.2} vs {want:.2} N/mm");
     assert!(
         (got / want - 1.0).abs() < 0.08,
         "{shape}: {got:.2} vs {want:.2} N/mm"

@@ -23,7 +23,7 @@ use super::contact::ContactSums;
 use super::grid::{Full, Remap};
 use super::scene::Scene;
 use super::shape::Stencil;
-use super::step::{Clock, Energies, Engine, PhaseTimes, StepInfo};
+use super::step::{ChunkSums, Clock, Energies, Engine, PhaseTimes, StepInfo};
 use super::{Real, SolveError};
 use grid::PlaneGrid;
 use nalgebra::Matrix3;
@@ -69,7 +69,7 @@ struct Scratch {
     /// The scatter's per-run sums.
     patches: Vec<passes::Patch>,
     /// Per chunk of particles, the stress update's sums.
-    chunk_sums: Vec<passes::ChunkSums>,
+    chunk_sums: Vec<ChunkSums>,
 }
 
 /// A section advancing in time with shape function `S`.

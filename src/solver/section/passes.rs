@@ -7,7 +7,7 @@
 use super::super::contact::{self, ContactSums, CONTACT_TOLERANCE};
 use super::super::grid::Transfer;
 use super::super::shape::Stencil;
-use super::super::step::diagnose;
+use super::super::step::{close_books, Books, ChunkSums, Updated};
 use super::super::{Real, SolveError};
 use super::grid::PlaneGrid;
 use super::Section;
@@ -16,10 +16,6 @@ use rayon::prelude::*;
 
 /// Particles per parallel work item.
 const CHUNK: usize = 512;
-
-/// Per chunk of the stress update: [work, plastic work, kinetic energy (mJ), signal speed
-/// (mm/ms)], and the first particle gone bad with what is wrong.
-pub(super) type ChunkSums = ([Real; 4], Option<(usize, &'static str)>);
 
 /// Particles per scatter run (see [`Section::scatter`]).
 const SCATTER_CHUNK: usize = 256;
@@ -267,6 +263,8 @@ impl<S: Stencil> Section<S> {
     /// bad. Returns the kinetic energy, mJ.
     pub(super) fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
         let cells = self.grid.len();
+        let books = Books::of(&self.scene, dt);
+        let material = self.scene.material;
         let p = &mut self.scene.particles;
         let s = &mut self.scratch;
         if let Some(avg) = &mut s.averages {
@@ -283,10 +281,6 @@ impl<S: Stencil> Section<S> {
                 a[2] /= a[0];
             }
         }
-        let material = self.scene.material;
-        let modulus = material.p_wave_modulus();
-        let yield_stress = material.finite_yield_stress();
-        let domain = self.scene.domain;
         let (grads, cell_of, averages) = (&s.gradient, &s.cell_of, &s.averages);
         let (mass, scale_of, xs, vs, ids) = (&p.mass, &p.yield_scale, &p.x, &p.v, &p.id);
         (
@@ -297,8 +291,7 @@ impl<S: Stencil> Section<S> {
             .into_par_iter()
             .enumerate()
             .map(|(c, (ss, vols, eps))| {
-                // [work, plastic, kinetic, signal], the first bad particle.
-                let mut sums = ([0.0 as Real; 4], None);
+                let mut sums = ChunkSums::default();
                 for first in (0..ss.len()).step_by(4) {
                     let lanes = 4.min(ss.len() - first);
                     // Per particle: the gradient and stress with the cell averages; then four
@@ -333,49 +326,35 @@ impl<S: Stencil> Section<S> {
                         let (a, e) = (1.0 + l[(0, 0)] * dt, 1.0 + l[(2, 2)] * dt);
                         let hoop = 1.0 + l[(1, 1)] * dt;
                         vols[i] *= hoop * (a * e - l[(0, 2)] * l[(2, 0)] * dt * dt);
-                        let vol = vols[i];
                         eps[i] += inc[j].plastic_strain;
-                        let v = &vs[q];
-                        let t = &mut sums.0;
-                        t[0] += inc[j].stress_power * 0.5 * (before + vol) * dt;
-                        t[1] += yield_stress * scales[j] * inc[j].plastic_strain * vol;
-                        t[2] += 0.5 * mass[q] * v.norm_squared();
-                        t[3] = t[3].max((modulus * vol / mass[q]).sqrt() + v.norm());
-                        if sums.1.is_none() {
-                            sums.1 = diagnose(&xs[q], &ss[i], vol, v, &domain).map(|w| (q, w));
-                        }
+                        let updated = Updated {
+                            q,
+                            increment: inc[j],
+                            yield_scale: scales[j],
+                            volume: (before, vols[i]),
+                            mass: mass[q],
+                            x: &xs[q],
+                            v: &vs[q],
+                            stress: &ss[i],
+                        };
+                        sums.book(&books, updated);
                     }
                 }
                 sums
             })
             .collect_into_vec(&mut s.chunk_sums);
-        let (mut work, mut plastic, mut kinetic, mut signal) = (0.0, 0.0, 0.0, 0.0 as Real);
-        for (t, bad) in &s.chunk_sums {
-            work += t[0];
-            plastic += t[1];
-            kinetic += t[2];
-            signal = signal.max(t[3]);
-            if let Some((q, what)) = bad {
-                let x = xs[*q];
-                return Err(SolveError::Unstable {
-                    step: self.steps + 1,
-                    time_ms: self.time + dt,
-                    what: format!(
-                        "particle {} at ({:.4}, {:.4}, {:.4}) mm of the section: {what}",
-                        ids[*q], x.x, x.y, x.z
-                    ),
-                });
-            }
-        }
-        if !signal.is_finite() {
-            return Err(SolveError::Unstable {
-                step: self.steps + 1,
-                time_ms: self.time + dt,
-                what: "signal speed is not finite".into(),
-            });
-        }
-        self.energy.internal += work;
-        self.energy.plastic += plastic;
+        let (kinetic, signal) = close_books(
+            &s.chunk_sums,
+            &mut self.energy,
+            (self.steps + 1, self.time + dt),
+            |q| {
+                let x = xs[q];
+                format!(
+                    "particle {} at ({:.4}, {:.4}, {:.4}) mm of the section",
+                    ids[q], x.x, x.y, x.z
+                )
+            },
+        )?;
         self.signal = signal;
         Ok(kinetic)
     }

@@ -4,12 +4,14 @@
 //! pressure are first averaged per grid cell ([`VolumetricAverages`]).
 
 use super::super::grid::bin::Bins;
+use super::super::material::{Increment, Sym};
 use super::super::particles::Particles;
+use super::super::scene::Scene;
 use super::super::shape::Stencil;
 use super::super::{Real, SolveError};
 use super::transfer::CHUNK;
 use super::workspace::Gradient;
-use super::Simulation;
+use super::{Energies, Simulation};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -76,6 +78,103 @@ pub struct ChunkSums {
     bad: Option<(usize, &'static str)>,
 }
 
+/// What the books of a stress update hold fixed over a step (3D and the sections alike).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Books {
+    /// The step, ms.
+    pub dt: Real,
+    /// The yield stress the plastic work is booked at (0 for a material that never yields), MPa.
+    pub yield_stress: Real,
+    /// P-wave modulus, MPa (for the signal speed).
+    pub modulus: Real,
+    /// Particles must stay inside this box, mm.
+    pub domain: [[Real; 3]; 2],
+}
+
+impl Books {
+    pub(crate) fn of(scene: &Scene, dt: Real) -> Books {
+        Books {
+            dt,
+            yield_stress: scene.material.finite_yield_stress(),
+            modulus: scene.material.p_wave_modulus(),
+            domain: scene.domain,
+        }
+    }
+}
+
+/// One particle after its stress update, as the books read it.
+pub(crate) struct Updated<'a> {
+    /// Its index in the particle arrays.
+    pub q: usize,
+    pub increment: Increment,
+    pub yield_scale: Real,
+    /// Volume before and after the step, mm³.
+    pub volume: (Real, Real),
+    pub mass: Real,
+    pub x: &'a Vector3<Real>,
+    pub v: &'a Vector3<Real>,
+    pub stress: &'a Sym,
+}
+
+impl ChunkSums {
+    /// Books one updated particle: stress power (trapezoidal in volume), plastic work, kinetic
+    /// energy, signal speed; and notes the first particle of the chunk whose state went bad.
+    #[inline(always)]
+    pub(crate) fn book(&mut self, b: &Books, u: Updated) {
+        let (before, vol) = u.volume;
+        let inc = &u.increment;
+        self.work += inc.stress_power * 0.5 * (before + vol) * b.dt;
+        // Adding the zero increment of an elastic particle leaves the sum's bits as they are;
+        // no branch.
+        self.plastic += b.yield_stress * u.yield_scale * inc.plastic_strain * vol;
+        self.kinetic += 0.5 * u.mass * u.v.norm_squared();
+        self.signal = self
+            .signal
+            .max((b.modulus * vol / u.mass).sqrt() + u.v.norm());
+        // One sum is not finite if any term is not: the full check names the fault only then.
+        let (x, v, st) = (u.x, u.v, u.stress);
+        let total = x.sum() + v.sum() + st.iter().sum::<Real>() + vol;
+        let inside = (0..3).all(|a| x[a] >= b.domain[0][a] && x[a] <= b.domain[1][a]);
+        if self.bad.is_none() && !(total.is_finite() && vol > 0.0 && inside) {
+            self.bad = diagnose(x, st, vol, v, &b.domain).map(|what| (u.q, what));
+        }
+    }
+}
+
+/// Adds the chunks' work into `energy` in chunk order, and returns the kinetic energy (mJ) and
+/// the largest signal speed (mm/ms); or the first bad particle's instability, its place
+/// written by `place(q)`, at `step` and `time_ms`.
+pub(crate) fn close_books(
+    chunks: &[ChunkSums],
+    energy: &mut Energies,
+    (step, time_ms): (u64, Real),
+    place: impl Fn(usize) -> String,
+) -> Result<(Real, Real), SolveError> {
+    let mut signal: Real = 0.0;
+    let mut kinetic = 0.0;
+    for s in chunks {
+        kinetic += s.kinetic;
+        energy.internal += s.work;
+        energy.plastic += s.plastic;
+        signal = signal.max(s.signal);
+        if let Some((q, what)) = s.bad {
+            return Err(SolveError::Unstable {
+                step,
+                time_ms,
+                what: format!("{}: {what}", place(q)),
+            });
+        }
+    }
+    if !signal.is_finite() {
+        return Err(SolveError::Unstable {
+            step,
+            time_ms,
+            what: "signal speed is not finite".into(),
+        });
+    }
+    Ok((kinetic, signal))
+}
+
 impl<S: Stencil> Simulation<S> {
     /// Stress, volume and energy update from the velocity gradients of `g2p_kinematics`, with
     /// the cell-averaged dilation and pressure when the scene asks for them. Finds the next
@@ -88,9 +187,7 @@ impl<S: Stencil> Simulation<S> {
             &*a
         });
         let material = self.scene.material;
-        let modulus = material.p_wave_modulus();
-        let yield_stress = material.finite_yield_stress();
-        let domain = self.scene.domain;
+        let books = Books::of(&self.scene, dt);
         let p = &mut self.scene.particles;
         let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
         let grads = &work.velocity_gradient;
@@ -139,61 +236,41 @@ impl<S: Stencil> Simulation<S> {
                         ss[i] = sa[j];
                         let before = vols[i];
                         vols[i] *= (Matrix3::identity() + l * dt).determinant();
-                        sums.work += inc[j].stress_power * 0.5 * (before + vols[i]) * dt;
-                        // Adding the zero increment of an elastic particle leaves both sums'
-                        // bits as they are; no branch.
                         eps[i] += inc[j].plastic_strain;
-                        sums.plastic += yield_stress * scales[j] * inc[j].plastic_strain * vols[i];
-                        sums.kinetic += 0.5 * mass[q] * vs[q].norm_squared();
-                        sums.signal = sums
-                            .signal
-                            .max((modulus * vols[i] / mass[q]).sqrt() + vs[q].norm());
-                        // One sum is not finite if any term is not: the full check names the
-                        // fault only then.
-                        let (x, v, st) = (&xs[q], &vs[q], &ss[i]);
-                        let total = x.sum() + v.sum() + st.iter().sum::<Real>() + vols[i];
-                        let inside = (0..3).all(|a| x[a] >= domain[0][a] && x[a] <= domain[1][a]);
-                        if sums.bad.is_none() && !(total.is_finite() && vols[i] > 0.0 && inside) {
-                            sums.bad = diagnose(x, st, vols[i], v, &domain).map(|what| (q, what));
-                        }
+                        let updated = Updated {
+                            q,
+                            increment: inc[j],
+                            yield_scale: scales[j],
+                            volume: (before, vols[i]),
+                            mass: mass[q],
+                            x: &xs[q],
+                            v: &vs[q],
+                            stress: &ss[i],
+                        };
+                        sums.book(&books, updated);
                     }
                 }
                 sums
             })
             .collect_into_vec(&mut work.chunk_sums);
-        let mut signal: Real = 0.0;
-        let mut kinetic = 0.0;
-        for s in &work.chunk_sums {
-            kinetic += s.kinetic;
-            self.energy.internal += s.work;
-            self.energy.plastic += s.plastic;
-            signal = signal.max(s.signal);
-            if let Some((q, what)) = s.bad {
-                let (x, id) = (self.scene.particles.x[q], self.scene.particles.id[q]);
-                return Err(SolveError::Unstable {
-                    step: self.steps + 1,
-                    time_ms: self.time + dt,
-                    what: format!(
-                        "particle {id} at ({:.4}, {:.4}, {:.4}) mm: {what}",
-                        x.x, x.y, x.z
-                    ),
-                });
-            }
-        }
-        if !signal.is_finite() {
-            return Err(SolveError::Unstable {
-                step: self.steps + 1,
-                time_ms: self.time + dt,
-                what: "signal speed is not finite".into(),
-            });
-        }
+        let x = &self.scene.particles.x;
+        let id = &self.scene.particles.id;
+        let (kinetic, signal) = close_books(
+            &work.chunk_sums,
+            &mut self.energy,
+            (self.steps + 1, self.time + dt),
+            |q| {
+                let (x, id) = (x[q], id[q]);
+                format!("particle {id} at ({:.4}, {:.4}, {:.4}) mm", x.x, x.y, x.z)
+            },
+        )?;
         self.signal = signal;
         Ok(kinetic)
     }
 }
 
 /// What is wrong with a particle's state, if anything.
-pub(crate) fn diagnose(
+fn diagnose(
     x: &Vector3<Real>,
     s: &[Real; 6],
     vol: Real,
