@@ -55,7 +55,7 @@ impl<S: Stencil> PlaneGrid<S> {
     }
 
     /// Places the rectangle over every node the stencils of particles at `x` (half-size `lp`,
-    /// grid units) reach, and clears what the full scatter fills. Allocates only when the
+    /// grid units) reach, and clears what the full scatter adds to. Allocates only when the
     /// rectangle outgrows every earlier one.
     pub fn fit(&mut self, x: &[Vector3<Real>], lp: Real) {
         let (mut lo, mut hi) = ([Real::MAX; 2], [Real::MIN; 2]);
@@ -76,15 +76,13 @@ impl<S: Stencil> PlaneGrid<S> {
             v.clear();
             v.resize(len, 0.0);
         }
-        for v in [
-            &mut self.momentum,
-            &mut self.force,
-            &mut self.velocity,
-            &mut self.change,
-        ] {
+        for v in [&mut self.momentum, &mut self.force] {
             v.clear();
             v.resize(len, [0.0; 2]);
         }
+        // The node passes write every node's velocity and change: sized, not cleared.
+        self.velocity.resize(len, [0.0; 2]);
+        self.change.resize(len, [0.0; 2]);
     }
 
     /// Nodes in the rectangle.
