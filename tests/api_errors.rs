@@ -386,6 +386,39 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
         .await
         .unwrap();
     assert!(e.get("reduced").is_none(), "{e}");
+    // The estimate names the shape functions: the default one with why (uGIMP for the thick
+    // default tube, linear for a thin wall in 3D), a named one bare.
+    assert_eq!(estimate["shape"]["kind"], "gimp", "{estimate}");
+    assert!(
+        estimate["shape"]["default_reason"].is_string(),
+        "{estimate}"
+    );
+    let thin = json!({"tube": {"thickness_mm": 0.76, "mean_diameter_mm": 19.81, "length_mm": 20},
+                      "loading": {"crush_distance_mm": 5}});
+    let e: Value = c
+        .post(app.at("/v1/estimate"))
+        .json(&thin)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(e["shape"]["kind"], "linear", "{e}");
+    let why = e["shape"]["default_reason"].as_str().unwrap();
+    assert!(why.contains("d/t = 26.1"), "{why}");
+    let mut named = thin.clone();
+    named["discretization"] = json!({"shape": "gimp"});
+    let e: Value = c
+        .post(app.at("/v1/estimate"))
+        .json(&named)
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(e["shape"], json!({"kind": "gimp"}), "{e}");
     // A model that does not fit the scene is refused with the field named.
     let wrong =
         json!({"loading": {"mode": "lateral"}, "discretization": {"model": "axisymmetric"}});

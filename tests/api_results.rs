@@ -84,6 +84,17 @@ async fn an_axisymmetric_job_gives_the_section_with_its_symmetry_named() {
         .await;
     assert_eq!(job["status"], "succeeded", "{job}");
     assert_eq!(job["summary"]["mode"]["kind"], "ring", "{job}");
+    // The summary names the shape functions that ran; this case names none, so the reason
+    // for the section's default comes with it.
+    let shape = &job["summary"]["shape"];
+    assert_eq!(shape["kind"], "gimp", "{job}");
+    assert!(
+        shape["default_reason"]
+            .as_str()
+            .unwrap()
+            .contains("reduced models"),
+        "{job}"
+    );
     let r = app.get(&format!("/v1/jobs/{id}/shape.png")).await;
     assert_eq!(r.status(), 200);
     let r = app.get(&format!("/v1/jobs/{id}/state.vtu")).await;

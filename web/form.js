@@ -18,7 +18,9 @@ export async function loadFields() {
 function inputFor(f) {
   const common = { id: fieldId(f.field), name: f.field, "data-field": f.field, "aria-describedby": "err-" + fieldId(f.field) };
   if (f.kind === "choice") {
-    return el("select", common, f.choices.map((c) => el("option", { value: c, selected: c === f.default }, c)));
+    // An optional choice starts on "auto": the server picks (the estimate line says what).
+    const auto = f.optional ? [el("option", { value: "", selected: true }, "auto")] : [];
+    return el("select", common, auto.concat(f.choices.map((c) => el("option", { value: c, selected: c === f.default }, c))));
   }
   if (f.kind === "boolean") {
     return el("input", { ...common, type: "checkbox", checked: f.default === true });
@@ -103,7 +105,7 @@ function readCase() {
     const input = document.getElementById(fieldId(f.field));
     let v;
     if (f.kind === "boolean") v = input.checked;
-    else if (f.kind === "choice") v = input.value;
+    else if (f.kind === "choice") { v = input.value; if (!v) continue; }
     else if (f.kind === "text") { v = input.value.trim(); if (!v) continue; }
     else { if (input.value.trim() === "") continue; v = Number(input.value); }
     const parts = f.field.split(".");
@@ -144,6 +146,7 @@ function scheduleEstimate() {
       out.textContent = `${e.particles.toLocaleString()} particles, ${e.steps.toLocaleString()} steps, ` +
         `about ${seconds(e.wall_time_s)} on ${e.threads} thread${e.threads === 1 ? "" : "s"}, ` +
         `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB` +
+        (e.shape.default_reason ? `; shape functions ${e.shape.default_reason}` : "") +
         (e.reduced ? `. The ${e.reduced.model.replace("_", " ")} model (discretization.model) would take ` +
           `about ${seconds(e.reduced.wall_time_s)}, ${e.reduced.speedup.toFixed(0)}× less; ` +
           `it cannot show ${e.reduced.cannot_show}.` : "");

@@ -14,6 +14,7 @@ function summaryTable(s) {
     ["Folds (from the shape)", s.folds],
     ["Load drops", s.load_drops ?? "–"],
     ["Energy-balance error", pct(s.energy_balance_error)],
+    ["Shape functions", s.shape ? (s.shape.default_reason || s.shape.kind) : "–"],
     ["Particles", s.cost.particles.toLocaleString()],
     ["Steps", s.cost.steps.toLocaleString()],
     ["Δt", `${fmt(s.cost.dt_min_ms * 1000)} – ${fmt(s.cost.dt_max_ms * 1000)} µs`],

@@ -96,8 +96,8 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
         steps: args.steps,
         base_rss,
     };
-    let d = &case.spec().discretization;
-    let sample = pool.install(|| simulate(d.model, d.shape, Scene::from_case(&case), timing))?;
+    let model = case.spec().discretization.model;
+    let sample = pool.install(|| simulate(model, case.shape(), Scene::from_case(&case), timing))?;
     println!("{}", serde_json::to_string(&sample)?);
     Ok(())
 }

@@ -143,6 +143,7 @@ mod tests {
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),
                 cost: RunCost::default(),
+                shape: None,
             },
             mode_detail: ModeDetail::default(),
         };

@@ -28,6 +28,12 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         spec.tube.length_mm,
         spec.loading.plate_speed_m_s
     );
+    let shape = case.shape_choice();
+    let _ = writeln!(
+        o,
+        "shape functions {}",
+        shape.default_reason.as_deref().unwrap_or(shape.kind.name())
+    );
     let _ = writeln!(o);
     let _ = writeln!(
         o,
@@ -212,6 +218,7 @@ mod tests {
                 threads: 2,
                 ..Default::default()
             },
+            shape: Some(case.shape_choice().clone()),
         }
     }
 
@@ -229,6 +236,10 @@ mod tests {
             },
         );
         assert!(text.starts_with("pvc axial\n"), "{text}");
+        assert!(
+            text.contains("\nshape functions gimp: the default for a wall of d/t = 6.9"),
+            "{text}"
+        );
         assert!(
             text.contains("mean load        9.514 kN   (0.900 x Alexander ring 10.571 kN)"),
             "{text}"

@@ -44,13 +44,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
     let guess = estimate(&case, threads as u32);
     eprintln!(
-        "{}: {} particles, about {} steps, {} threads, roughly {} wall time",
+        "{}: {} shapes, {} particles, about {} steps, {} threads, roughly {} wall time",
         case.spec().label.as_deref().unwrap_or(&source),
+        case.shape().name(),
         guess.particles,
         guess.steps,
         threads,
         clock(guess.wall_time_s)
     );
+    if let Some(why) = &guess.shape.default_reason {
+        eprintln!("  (shape functions {why})");
+    }
     if let Some(r) = &guess.reduced {
         eprintln!(
             "  (discretization.model \"{}\" would run it in about {}, {:.0}x less; it cannot show {})",

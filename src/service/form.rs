@@ -116,7 +116,7 @@ const SPECS: &[Spec] = &[
     Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((64.0, false)), "Spacing h = t / n. At most 16 in 3D (cost about n⁴), 64 in the reduced models (cost about n³).") },
     num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),
     num("discretization.cfl", "CFL number α", "", POSITIVE, Some((1.0, false)), "Δt = α · cell / max(c + |v|)."),
-    other("discretization.shape", "Shape functions", Kind::Choice, &["gimp", "linear"], "gimp: uniform GIMP; linear: trilinear hats."),
+    other("discretization.shape", "Shape functions", Kind::Choice, &["gimp", "linear"], "gimp: uniform GIMP; linear: trilinear hats. Empty (auto): linear for a thin wall (d/t >= 8) in 3D, else gimp; the estimate says which."),
     other("discretization.model", "Model", Kind::Choice, &["3d", "axisymmetric", "plane_strain"], "3d: the whole tube. axisymmetric (axial, no trigger): the (r, z) section, ring folding only, seconds instead of minutes. plane_strain (lateral, no trigger): the cross-section, no end effects."),
     other("discretization.volumetric_averaging", "Volumetric averaging", Kind::Boolean, &[], "One volumetric strain rate per cell, against locking."),
     num("trigger.weak_fraction", "Weak-particle fraction", "", Some((0.0, false)), Some((0.1, false)), "0 disables the trigger."),
@@ -133,8 +133,9 @@ pub fn fields() -> Vec<Field> {
         .iter()
         .map(|s| {
             let pointer = format!("/{}", s.field.replace('.', "/"));
-            // Only the fields the server fills in itself (label, crush distance, start ramp)
-            // have no default in the serialized case: those are the optional ones.
+            // Only the fields the server fills in itself (label, crush distance, start ramp,
+            // shape functions) have no default in the serialized case: those are the optional
+            // ones.
             let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
             Field {
                 field: s.field,
@@ -218,7 +219,28 @@ mod tests {
             .collect();
         assert_eq!(
             optional,
-            ["label", "loading.crush_distance_mm", "loading.ramp_mm"]
+            [
+                "label",
+                "loading.crush_distance_mm",
+                "loading.ramp_mm",
+                "discretization.shape"
+            ]
+        );
+    }
+
+    #[test]
+    fn the_shape_help_names_the_servers_threshold() {
+        let threshold = format!("(d/t >= {})", crate::solver::case::LINEAR_FROM_D_OVER_T);
+        let shape = fields()
+            .into_iter()
+            .find(|f| f.field == "discretization.shape")
+            .unwrap();
+        assert!(shape.help.contains(&threshold), "{}", shape.help);
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
+        let contract = std::fs::read_to_string(path).unwrap();
+        assert!(
+            contract.contains(&threshold),
+            "api/openapi.yaml: {threshold}"
         );
     }
 

@@ -134,14 +134,56 @@ impl Default for Contact {
 }
 
 /// Shape functions of the background grid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ShapeKind {
     /// Trilinear hat functions (standard MPM).
     Linear,
     /// Uniform GIMP: the particle is a box of side h that never changes.
-    #[default]
     Gimp,
+}
+
+/// The d/t from which a 3D case that names no shape function runs with linear shapes.
+/// `docs/validation.md` §4, "Which shape function for which wall", holds the runs behind it:
+/// at d/t 6.9 both shapes fold the paper's tube in rings and uGIMP closes its books better; at
+/// d/t 9.4 and 26 uGIMP let tubes tip over that linear shapes fold progressively.
+pub const LINEAR_FROM_D_OVER_T: f64 = 8.0;
+
+impl ShapeKind {
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Linear => "linear",
+            ShapeKind::Gimp => "gimp",
+        }
+    }
+
+    /// The shape functions for a case that names none, and why. In 3D a thin wall
+    /// (d/t ≥ [`LINEAR_FROM_D_OVER_T`]) gets linear shapes: with uGIMP some such tubes fold at
+    /// both plates and then tip over between the near-frictionless plates of the source, where
+    /// linear shapes fold them progressively, as the source's tubes did. Every other case gets
+    /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7).
+    pub fn default_for(tube: &Tube, model: Model) -> (ShapeKind, String) {
+        let slenderness = tube.mean_diameter_mm / tube.thickness_mm;
+        match model {
+            Model::ThreeD if slenderness >= LINEAR_FROM_D_OVER_T => (
+                ShapeKind::Linear,
+                format!(
+                    "linear: the default for a thin wall (d/t = {slenderness:.1} >=                      {LINEAR_FROM_D_OVER_T}), which uGIMP tips over"
+                ),
+            ),
+            Model::ThreeD => (
+                ShapeKind::Gimp,
+                format!(
+                    "gimp: the default for a wall of d/t = {slenderness:.1} <                      {LINEAR_FROM_D_OVER_T}"
+                ),
+            ),
+            _ => (
+                ShapeKind::Gimp,
+                "gimp: the default of the reduced models, where it converges".into(),
+            ),
+        }
+    }
 }
 
 /// Which kinematics the solver models. The reduced models run the tube's section (the same
@@ -191,7 +233,10 @@ pub struct Discretization {
     pub cell_to_particle_ratio: f64,
     /// α in Δt = α · cell / max(c + |v|).
     pub cfl: f64,
-    pub shape: ShapeKind,
+    /// Omitted: chosen by the wall and the model ([`ShapeKind::default_for`]);
+    /// [`Case::shape`] is the one that runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeKind>,
     /// Share one volumetric strain rate and one pressure among the particles of each grid cell
     /// (as in a Q1–P0 element), against volumetric locking of the incompressible plastic flow.
     pub volumetric_averaging: bool,
@@ -205,7 +250,7 @@ impl Default for Discretization {
             particles_through_thickness: 4,
             cell_to_particle_ratio: 2.0,
             cfl: 0.5,
-            shape: ShapeKind::Gimp,
+            shape: None,
             volumetric_averaging: true,
             model: Model::ThreeD,
         }
@@ -365,6 +410,16 @@ pub struct Case {
     /// Estimated at the initial time step, within the limits `parse` was given.
     steps: u64,
     ramp_mm: f64,
+    shape: ShapeChoice,
+}
+
+/// The shape functions a case runs with, and whether the case named them.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShapeChoice {
+    pub kind: ShapeKind,
+    /// Why the default is this one, when the case named no shape functions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub default_reason: Option<String>,
 }
 
 impl Case {
@@ -533,6 +588,19 @@ impl Case {
         let (particles, steps) = c.costs(&spec, crush, limits);
         match (particles, steps) {
             (Some(particles), Some(steps)) if c.errors.is_empty() => Ok(Case {
+                shape: match spec.discretization.shape {
+                    Some(kind) => ShapeChoice {
+                        kind,
+                        default_reason: None,
+                    },
+                    None => {
+                        let (kind, why) = ShapeKind::default_for(&spec.tube, d.model);
+                        ShapeChoice {
+                            kind,
+                            default_reason: Some(why),
+                        }
+                    }
+                },
                 spec,
                 crush_distance_mm: crush,
                 particles,
@@ -555,6 +623,16 @@ impl Case {
     /// Background cell size k · h, mm.
     pub fn cell_mm(&self) -> f64 {
         self.spacing_mm() * self.spec.discretization.cell_to_particle_ratio
+    }
+
+    /// The shape functions the case runs with: its own, or the default for its wall.
+    pub fn shape(&self) -> ShapeKind {
+        self.shape.kind
+    }
+
+    /// [`Case::shape`] with whether, and why, it was chosen for the case.
+    pub fn shape_choice(&self) -> &ShapeChoice {
+        &self.shape
     }
 
     /// Crush distance with the mode's default filled in, mm.
@@ -813,6 +891,64 @@ impl Checker {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tube of wall t and diameter d with the given discretization JSON, checked.
+    fn tube_case(t: f64, d: f64, discretization: &str) -> Case {
+        let text = format!(
+            r#"{{"tube": {{"thickness_mm": {t}, "mean_diameter_mm": {d}, "length_mm": 10}},
+                "loading": {{"crush_distance_mm": 5}},
+                "discretization": {discretization}}}"#
+        );
+        Case::from_json(&text, &Limits::default()).unwrap()
+    }
+
+    #[test]
+    fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
+        // The paper's thick tube (d/t 6.9) and the t 1.27, d 10 tube (d/t 7.9): uGIMP.
+        for (t, d) in [(3.2, 22.2), (1.27, 10.0)] {
+            let case = tube_case(t, d, "{}");
+            assert_eq!(case.shape(), ShapeKind::Gimp, "t {t} d {d}");
+            let why = case.shape_choice().default_reason.as_deref().unwrap();
+            assert!(why.starts_with("gimp: the default"), "{why}");
+        }
+        // The thin tubes (d/t 9.4–26.1) and the threshold itself: linear, with d/t in the
+        // reason.
+        for (t, d) in [(1.27, 12.0), (1.27, 20.32)] {
+            assert_eq!(
+                tube_case(t, d, "{}").shape(),
+                ShapeKind::Linear,
+                "t {t} d {d}"
+            );
+        }
+        let thin = tube_case(0.76, 19.81, "{}");
+        assert_eq!(thin.shape(), ShapeKind::Linear);
+        let why = thin.shape_choice().default_reason.as_deref().unwrap();
+        assert!(why.contains("d/t = 26.1"), "{why}");
+        let at = tube_case(1.0, LINEAR_FROM_D_OVER_T, "{}");
+        assert_eq!(at.shape(), ShapeKind::Linear);
+        let below = tube_case(1.0, LINEAR_FROM_D_OVER_T - 0.01, "{}");
+        assert_eq!(below.shape(), ShapeKind::Gimp);
+        // A reduced model has no global buckling to lose: uGIMP, which converges there.
+        let section = tube_case(0.76, 19.81, r#"{"model": "axisymmetric"}"#);
+        assert_eq!(section.shape(), ShapeKind::Gimp);
+        // A named shape (or null, which is the default) is kept; only the default has a reason.
+        for named in [ShapeKind::Gimp, ShapeKind::Linear] {
+            let text = format!(r#"{{"shape": "{}"}}"#, named.name());
+            for (t, d) in [(3.2, 22.2), (0.76, 19.81)] {
+                let case = tube_case(t, d, &text);
+                assert_eq!(case.shape(), named);
+                assert_eq!(case.shape_choice().default_reason, None);
+            }
+        }
+        assert_eq!(
+            tube_case(0.76, 19.81, r#"{"shape": null}"#).shape(),
+            ShapeKind::Linear
+        );
+        // The spec keeps what the user wrote: no shape stays no shape.
+        assert!(serde_json::to_value(thin.spec()).unwrap()["discretization"]
+            .get("shape")
+            .is_none());
+    }
 
     #[test]
     fn empty_object_is_the_pvc_default() {

@@ -3,7 +3,7 @@
 use super::Case;
 use serde::{Deserialize, Serialize};
 
-use super::case::{LoadingMode, Model, ShapeKind};
+use super::case::{LoadingMode, Model, ShapeChoice, ShapeKind};
 use super::Limits;
 
 /// Throughput assumed for the wall-time guess, particle-steps per second per thread, by shape
@@ -45,6 +45,8 @@ pub struct Estimate {
     /// Expected wall time on `threads` threads, s.
     pub wall_time_s: f64,
     pub threads: u32,
+    /// The shape functions the case will run with, and why when it named none.
+    pub shape: ShapeChoice,
     /// For a 3D case whose scene has a symmetry (no trigger): the reduced model that would run
     /// it, and at what cost.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -110,11 +112,11 @@ fn cost(case: &Case, threads: u32) -> Estimate {
     let (cells, rate) = match d.model {
         Model::ThreeD => (
             particles as f64 / (k * k * k),
-            assumed_particle_steps_per_s_per_thread(d.shape) * threads.max(1) as f64,
+            assumed_particle_steps_per_s_per_thread(case.shape()) * threads.max(1) as f64,
         ),
         _ => (
             particles as f64 / (k * k),
-            section_particle_steps_per_s(d.shape, threads),
+            section_particle_steps_per_s(case.shape(), threads),
         ),
     };
     // Both counts were computed, and held to the caller's limits, by `Case::parse`.
@@ -126,6 +128,7 @@ fn cost(case: &Case, threads: u32) -> Estimate {
         memory_bytes: particles * ASSUMED_BYTES_PER_PARTICLE,
         wall_time_s: particles as f64 * steps as f64 / rate,
         threads,
+        shape: case.shape_choice().clone(),
         reduced: None,
     }
 }

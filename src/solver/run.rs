@@ -31,14 +31,14 @@ pub fn run_scene(
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
     let start = Instant::now();
-    let d = &case.spec().discretization;
+    let model = case.spec().discretization.model;
     let run = Run {
         case,
         observer,
         cancel,
         start,
     };
-    simulate(d.model, d.shape, scene, run)
+    simulate(model, case.shape(), scene, run)
 }
 
 /// The loop of one run, for whichever model and shape function the case chose.

@@ -1,7 +1,7 @@
 //! A finished run in a few numbers: mean collapse load, peak, energy absorbed, folds, energy
 //! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
 
-use super::case::LoadingMode;
+use super::case::{LoadingMode, ShapeChoice};
 use super::folds::count_folds;
 use super::history::HistoryRow;
 use super::mode::{detect_mode, ModeDetail};
@@ -78,6 +78,10 @@ pub struct Summary {
     pub mode: CollapseMode,
     pub references: References,
     pub cost: RunCost,
+    /// The shape functions the run used, and why when the case left them to the default.
+    /// Absent only from summaries stored before the default depended on the wall.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeChoice>,
 }
 
 /// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
@@ -150,6 +154,7 @@ pub fn summarize(
         mode,
         references: references(case),
         cost,
+        shape: Some(case.shape_choice().clone()),
     };
     (summary, mode_detail)
 }
