@@ -169,13 +169,14 @@ impl ShapeKind {
             Model::ThreeD if slenderness >= LINEAR_FROM_D_OVER_T => (
                 ShapeKind::Linear,
                 format!(
-                    "linear: the default for a thin wall (d/t = {slenderness:.1} >=                      {LINEAR_FROM_D_OVER_T}), which uGIMP tips over"
+                    "linear: the default for a thin wall (d/t = {slenderness:.1} >= \
+                     {LINEAR_FROM_D_OVER_T}), which uGIMP can let tip over"
                 ),
             ),
             Model::ThreeD => (
                 ShapeKind::Gimp,
                 format!(
-                    "gimp: the default for a wall of d/t = {slenderness:.1} <                      {LINEAR_FROM_D_OVER_T}"
+                    "gimp: the default for a wall of d/t = {slenderness:.1} < {LINEAR_FROM_D_OVER_T}"
                 ),
             ),
             _ => (
@@ -908,8 +909,12 @@ mod tests {
         for (t, d) in [(3.2, 22.2), (1.27, 10.0)] {
             let case = tube_case(t, d, "{}");
             assert_eq!(case.shape(), ShapeKind::Gimp, "t {t} d {d}");
-            let why = case.shape_choice().default_reason.as_deref().unwrap();
-            assert!(why.starts_with("gimp: the default"), "{why}");
+            let why = case.shape_choice().default_reason.clone().unwrap();
+            let d_over_t = format!("{:.1}", d / t);
+            assert_eq!(
+                why,
+                format!("gimp: the default for a wall of d/t = {d_over_t} < 8")
+            );
         }
         // The thin tubes (d/t 9.4–26.1) and the threshold itself: linear, with d/t in the
         // reason.
@@ -922,8 +927,13 @@ mod tests {
         }
         let thin = tube_case(0.76, 19.81, "{}");
         assert_eq!(thin.shape(), ShapeKind::Linear);
-        let why = thin.shape_choice().default_reason.as_deref().unwrap();
-        assert!(why.contains("d/t = 26.1"), "{why}");
+        assert_eq!(
+            thin.shape_choice().default_reason.as_deref(),
+            Some(
+                "linear: the default for a thin wall (d/t = 26.1 >= 8), \
+                 which uGIMP can let tip over"
+            )
+        );
         let at = tube_case(1.0, LINEAR_FROM_D_OVER_T, "{}");
         assert_eq!(at.shape(), ShapeKind::Linear);
         let below = tube_case(1.0, LINEAR_FROM_D_OVER_T - 0.01, "{}");
