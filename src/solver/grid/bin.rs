@@ -1,7 +1,8 @@
 //! Binning: which blocks are active and which particles each holds, rebuilt every step from
 //! the particle positions (mm) in named steps: [`Bins::locate`] each particle, bound the
 //! blocks, [`Bins::mark`] every block a stencil touches, [`Bins::number`] them in table order,
-//! [`Bins::sort`] the particles by block, [`Bins::link`] each block to its neighbours.
+//! [`Bins::sort`] the particles by block (and give the blocks that hold any a padded buffer),
+//! [`Bins::link`] each block to its neighbours.
 
 use super::super::shape::Stencil;
 use super::super::Real;
@@ -23,6 +24,13 @@ pub struct Bins {
     pub order: Vec<u32>,
     /// Block of each particle's cell.
     pub home: Vec<u32>,
+    /// The blocks that hold particles, in block order: only these have a padded buffer (the
+    /// buffer's index is the place in this list). A block that only receives stencils spilling
+    /// over from its neighbours has none: its padded buffer would stay zero, and on a tube's
+    /// wall a third to a half of the active blocks are such.
+    pub occupied: Vec<u32>,
+    /// Per active block: its padded buffer (its index in `occupied`), or `u32::MAX` for none.
+    pub buffer: Vec<u32>,
     /// Each particle's cell within its block, 0..64.
     pub cell_of: Vec<u8>,
     /// Block coordinates of the table's first entry, and the table's extent in blocks.
@@ -168,7 +176,8 @@ impl Bins {
         }
     }
 
-    /// Counting sort of particles by block; within a block, in particle order.
+    /// Counting sort of particles by block; within a block, in particle order. The blocks that
+    /// hold particles get padded buffers, numbered in block order.
     fn sort(&mut self) {
         let nb = self.blocks.len();
         self.starts.clear();
@@ -186,6 +195,16 @@ impl Bins {
             let c = &mut self.cursor[h as usize];
             self.order[*c as usize] = p as u32;
             *c += 1;
+        }
+        self.occupied.clear();
+        self.buffer.clear();
+        for b in 0..nb {
+            if self.starts[b + 1] > self.starts[b] {
+                self.buffer.push(self.occupied.len() as u32);
+                self.occupied.push(b as u32);
+            } else {
+                self.buffer.push(NONE);
+            }
         }
     }
 
@@ -245,6 +264,7 @@ impl Bins {
             + self.blocks.capacity() * size_of::<[i32; 3]>()
             + (self.table.capacity() + self.starts.capacity() + self.order.capacity())
                 * size_of::<u32>()
+            + (self.occupied.capacity() + self.buffer.capacity()) * size_of::<u32>()
             + (self.home.capacity() + self.cursor.capacity()) * size_of::<u32>()
             + self.cell_of.capacity()
             + self.spill.capacity()

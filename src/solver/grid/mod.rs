@@ -4,9 +4,10 @@
 //! owned nodes; only blocks whose nodes some particle's stencil touches exist, so memory follows
 //! the tube, not its bounding box, and is rebuilt from the particles every step ([`bin`]).
 //!
-//! Parallel scatter without atomics or aliasing: each block also has a *padded* buffer covering
-//! its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds the whole stencil of every particle
-//! whose cell lies in the block. Particle→grid writes only the padded buffer of the particle's
+//! Parallel scatter without atomics or aliasing: each block that holds particles also has a
+//! *padded* buffer covering its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds the whole
+//! stencil of every particle whose cell lies in the block (blocks that only receive spilled
+//! stencils have none: [`bin::Bins::occupied`]). Particle→grid writes only the padded buffer of the particle's
 //! block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a fixed order, and
 //! [`Grid::broadcast`] copies owned values back into the padded buffers for grid→particle
 //! reads. Results are independent of the thread count.
@@ -140,7 +141,8 @@ impl Gathered for Velocity {
     const LO: bool = true;
 }
 
-/// Every active block's padded buffer ([`Grid::PADDED_LEN`] nodes each), as two arrays: the
+/// The padded buffer of every block that holds particles ([`Grid::PADDED_LEN`] nodes each, in
+/// the order of [`bin::Bins::occupied`]), as two arrays: the
 /// `lo` and the `hi` half of each [`Node`]. Two arrays and not one of nodes, because only the
 /// [`Full`] scatter and its reduce need both halves: the [`Remap`] scatter, its reduce, both
 /// broadcasts and both gathers stream half the bytes.
@@ -214,28 +216,41 @@ impl<S: Stencil> Grid<S> {
         self.bins.blocks[b].map(|c| c * BLOCK + S::PAD_LO)
     }
 
-    /// Block `b`'s part of a padded half (`self.padded.lo` or `.hi`).
+    /// Padded buffer `s`'s part of a padded half (`self.padded.lo` or `.hi`).
     #[inline(always)]
-    pub fn block_of(half: &[f64x4], b: usize) -> &[f64x4] {
-        &half[b * Self::PADDED_LEN..(b + 1) * Self::PADDED_LEN]
+    pub fn buffer_of(half: &[f64x4], s: usize) -> &[f64x4] {
+        &half[s * Self::PADDED_LEN..(s + 1) * Self::PADDED_LEN]
+    }
+
+    /// The padded buffer of block `b`, which must hold particles.
+    #[inline(always)]
+    pub fn buffer(&self, b: usize) -> usize {
+        let s = self.bins.buffer[b];
+        debug_assert!(
+            s != NONE,
+            "block {b} holds no particles and has no padded buffer"
+        );
+        s as usize
     }
 
     /// Sorts particles into blocks, activates every block a stencil touches and sizes the
     /// node buffers for them. `lp` is the particle half-size in grid units.
     pub fn bin(&mut self, x: &[Vector3<Real>], lp: Real) {
         self.bins.rebuild::<S>(x, self.inv_cell, lp);
-        let nb = self.len();
+        let buffers = self.bins.occupied.len() * Self::PADDED_LEN;
         let zero = f64x4::splat(0.0);
-        self.padded.lo.resize(nb * Self::PADDED_LEN, zero);
-        self.padded.hi.resize(nb * Self::PADDED_LEN, zero);
-        self.owned.resize(nb * OWNED, Node::default());
+        self.padded.lo.resize(buffers, zero);
+        self.padded.hi.resize(buffers, zero);
+        self.owned.resize(self.len() * OWNED, Node::default());
     }
 
     /// Sums the padded buffers into the owned nodes: what transfer `T` scattered. Each owned
     /// node adds its padded copies in the order of the neighbours that hold them, whatever the
-    /// thread count.
+    /// thread count. Neighbours without particles have no buffer and are skipped: their copies
+    /// would be zeros, and adding +0 to a sum begun at +0 changes no bit.
     pub fn reduce<T: Transfer>(&mut self) {
         let (padded, neighbors, links) = (&self.padded, &self.bins.neighbors, &self.links);
+        let buffer = &self.bins.buffer;
         let len = Self::PADDED_LEN;
         self.owned
             .par_chunks_mut(OWNED)
@@ -246,10 +261,10 @@ impl<S: Stencil> Grid<S> {
                     o.clear::<T>();
                     for &(k, s) in links.copies_of(l) {
                         let nb = nbs[k as usize];
-                        if nb == NONE {
+                        if nb == NONE || buffer[nb as usize] == NONE {
                             continue;
                         }
-                        let s = nb as usize * len + s as usize;
+                        let s = buffer[nb as usize] as usize * len + s as usize;
                         // A `Remap` scatter leaves the padded mass lane 0, so adding `lo` adds
                         // only momentum.
                         o.lo += padded.lo[s];
@@ -265,6 +280,7 @@ impl<S: Stencil> Grid<S> {
     /// buffer written front to back.
     pub fn broadcast<G: Gathered>(&mut self) {
         let (owned, neighbors, links) = (&self.owned, &self.bins.neighbors, &self.links);
+        let occupied = &self.bins.occupied;
         let half = if G::LO {
             &mut self.padded.lo
         } else {
@@ -272,8 +288,8 @@ impl<S: Stencil> Grid<S> {
         };
         half.par_chunks_mut(Self::PADDED_LEN)
             .enumerate()
-            .for_each(|(b, buf)| {
-                let nbs = &neighbors[b];
+            .for_each(|(s, buf)| {
+                let nbs = &neighbors[occupied[s] as usize];
                 for (n, &(k, l)) in buf.iter_mut().zip(&links.owner) {
                     let nb = nbs[k as usize];
                     *n = if nb == NONE {
@@ -413,10 +429,11 @@ mod tests {
         let lp = 0.25;
         g.bin(&x, lp);
         let (len, pad) = (Grid::<S>::PADDED_LEN, S::PAD);
-        for b in 0..g.len() {
+        for (s, &b) in g.bins.occupied.clone().iter().enumerate() {
+            let b = b as usize;
             let o = g.padded_origin(b);
             let mine: Vec<u32> = g.bins.particles_of(b).to_vec();
-            let buf = &mut g.padded.lo[b * len..(b + 1) * len];
+            let buf = &mut g.padded.lo[s * len..(s + 1) * len];
             buf.iter_mut().for_each(|n| *n = f64x4::splat(0.0));
             for p in mine {
                 let e: Vec<_> = (0..3)
@@ -442,9 +459,13 @@ mod tests {
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
         g.broadcast::<Velocity>();
         // Every padded node now equals its owner.
-        for b in 0..g.len() {
-            let o = g.padded_origin(b);
-            for (q, n) in Grid::<S>::block_of(&g.padded.lo, b).iter().enumerate() {
+        assert!(
+            g.bins.occupied.len() < g.len(),
+            "some blocks only receive spilled stencils"
+        );
+        for (s, &b) in g.bins.occupied.iter().enumerate() {
+            let o = g.padded_origin(b as usize);
+            for (q, n) in Grid::<S>::buffer_of(&g.padded.lo, s).iter().enumerate() {
                 let node = [
                     o[0] + (q / (pad * pad)) as i32,
                     o[1] + ((q / pad) % pad) as i32,

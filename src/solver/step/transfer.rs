@@ -34,7 +34,8 @@ impl<S: Stencil> Simulation<S> {
         (padded.lo.par_chunks_mut(len), padded.hi.par_chunks_mut(len))
             .into_par_iter()
             .enumerate()
-            .for_each(|(b, (lo, hi))| {
+            .for_each(|(s, (lo, hi))| {
+                let b = g.bins.occupied[s] as usize;
                 // A `Remap` scatter zeroes the mass lane too: `Grid::reduce` then adds only
                 // momentum to the owned nodes. It leaves `hi` alone.
                 let zero = f64x4::splat(0.0);
@@ -65,20 +66,23 @@ impl<S: Stencil> Simulation<S> {
                     } else {
                         0.0
                     };
-                    // σ·V/h by columns: the force on node (i, j, k) is −(c0·∂x + c1·∂y + c2·∂z)
-                    // of its weight, = fa·N_z + fb·N_z′ per (i, j) row.
-                    let vs = to_matrix(&p.stress[q]) * (p.vol[q] * inv);
-                    let (c0, c1, c2) = (vs.column(0), vs.column(1), vs.column(2));
+                    // −σ·V/h by columns, as [force lanes, 0]: the force on node (i, j, k) is
+                    // −(c0·∂x + c1·∂y + c2·∂z) of its weight, = fa·N_z + fb·N_z′ per (i, j) row;
+                    // the touch lane rides along in `fa`. (Built as vectors once per particle,
+                    // not per row: the same products and sums lane by lane.)
+                    let vs = to_matrix(&p.stress[q]) * (-p.vol[q] * inv);
+                    let col = |c: usize| f64x4::new([vs[(0, c)], vs[(1, c)], vs[(2, c)], 0.0]);
+                    let (c0, c1, c2) = (col(0), col(1), col(2));
+                    let t = f64x4::new([0.0, 0.0, 0.0, touch]);
                     for i in 0..S::N {
                         for j in 0..S::N {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
-                            let m = mv * f64x4::splat(wxy);
+                            let wv = f64x4::splat(wxy);
+                            let m = mv * wv;
                             if T::FULL {
-                                let fa = c0 * gxy + c1 * wgxy;
-                                let fb = c2 * wxy;
-                                let fa = f64x4::new([-fa.x, -fa.y, -fa.z, touch * wxy]);
-                                let fb = f64x4::new([-fb.x, -fb.y, -fb.z, 0.0]);
+                                let fa = c0 * f64x4::splat(gxy) + c1 * f64x4::splat(wgxy) + t * wv;
+                                let fb = c2 * wv;
                                 for k in 0..S::N {
                                     let n = row + k;
                                     let w = f64x4::splat(wz[k]);
@@ -193,10 +197,11 @@ fn stencil<'a, S: Stencil>(
 ) {
     let b = g.bins.home[q] as usize;
     let o = g.padded_origin(b);
+    let s = g.buffer(b);
     let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
     debug_assert!((0..3).all(|a| e[a].0 - o[a] >= 0 && (e[a].0 - o[a]) as usize + S::N <= S::PAD));
     (
-        Grid::<S>::block_of(half, b),
+        Grid::<S>::buffer_of(half, s),
         (e[0].0 - o[0]) as usize,
         (e[1].0 - o[1]) as usize,
         (e[2].0 - o[2]) as usize,
