@@ -12,6 +12,56 @@ use rayon::prelude::*;
 
 const MARK: u32 = u32::MAX - 1;
 
+/// Per stencil spill bits (bit a: below on axis a, bit a + 3: above): the neighbour blocks the
+/// stencil touches, as bits by [`neighbor_index`] (the block itself, 13, always).
+const SPILLED: [u32; 64] = spilled();
+
+const fn spilled() -> [u32; 64] {
+    let mut table = [0; 64];
+    let mut s = 0;
+    while s < 64 {
+        let mut set = 0;
+        let mut n = 0;
+        while n < 27 {
+            let d = [n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1];
+            let mut inside = true;
+            let mut a = 0;
+            while a < 3 {
+                let (below, above) = ((s >> a) & 1 == 1, (s >> (a + 3)) & 1 == 1);
+                inside &= d[a] == 0 || (d[a] == -1 && below) || (d[a] == 1 && above);
+                a += 1;
+            }
+            if inside {
+                set |= 1 << n;
+            }
+            n += 1;
+        }
+        table[s] = set;
+        s += 1;
+    }
+    table
+}
+
+/// Marks the neighbours in `set` (bits by [`neighbor_index`]) of the block at slot `home` of a
+/// table of extent `dim`.
+fn mark_around(table: &mut [u32], dim: [i32; 3], home: usize, set: u32) {
+    let (plane, row) = (dim[1] * dim[2], dim[2]);
+    for n in 0..27 {
+        if set >> n & 1 == 1 {
+            let d = [n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1];
+            let t = home as i32 + d[0] * plane + d[1] * row + d[2];
+            table[t as usize] = MARK;
+        }
+    }
+}
+
+/// Index in a dense table of origin `lo` and extent `dim` (blocks) of block `b`.
+#[inline(always)]
+fn slot(lo: [i32; 3], dim: [i32; 3], b: [i32; 3]) -> usize {
+    let r = [b[0] - lo[0], b[1] - lo[1], b[2] - lo[2]];
+    ((r[0] * dim[1] + r[1]) * dim[2] + r[2]) as usize
+}
+
 /// The active blocks and each particle's place in them.
 #[derive(Debug, Default)]
 pub struct Bins {
@@ -125,34 +175,39 @@ impl Bins {
     }
 
     /// Marks in the table every block a particle's stencil touches; `home` holds each
-    /// particle's table slot.
+    /// particle's table slot. Particles of one block mostly follow each other (they are
+    /// reordered by block), so the blocks touched by a run of particles with the same home are
+    /// gathered as a set of neighbours ([`SPILLED`]) and marked once per run: the one
+    /// sequential pass does a look-up and an `or` per particle.
     fn mark(&mut self) {
         let size = (self.dim[0] * self.dim[1] * self.dim[2]) as usize;
         self.table.clear();
         self.table.resize(size, NONE);
         self.home.resize(self.own.len(), 0);
-        let mut last = usize::MAX;
-        for q in 0..self.own.len() {
-            let (o, s) = (self.own[q], self.spill[q]);
-            let home = self.slot(o);
-            self.home[q] = home as u32;
-            if s == 0 {
-                if home != last {
-                    self.table[home] = MARK;
-                    last = home;
+        let (lo, dim) = (self.lo, self.dim);
+        (self.home.par_chunks_mut(4096), self.own.par_chunks(4096))
+            .into_par_iter()
+            .for_each(|(home, own)| {
+                for (h, o) in home.iter_mut().zip(own) {
+                    *h = slot(lo, dim, *o) as u32;
                 }
-                continue;
-            }
-            let range = |a: usize| (o[a] - (s >> a & 1) as i32, o[a] + (s >> (a + 3) & 1) as i32);
-            let (rx, ry, rz) = (range(0), range(1), range(2));
-            for i in rx.0..=rx.1 {
-                for j in ry.0..=ry.1 {
-                    for k in rz.0..=rz.1 {
-                        let t = self.slot([i, j, k]);
-                        self.table[t] = MARK;
+            });
+        let table = &mut self.table;
+        let mut run: Option<(usize, u32)> = None;
+        for (&h, &s) in self.home.iter().zip(&self.spill) {
+            let touched = SPILLED[s as usize];
+            match &mut run {
+                Some((home, set)) if *home == h as usize => *set |= touched,
+                _ => {
+                    if let Some((home, set)) = run {
+                        mark_around(table, dim, home, set);
                     }
+                    run = Some((h as usize, touched));
                 }
             }
+        }
+        if let Some((home, set)) = run {
+            mark_around(table, dim, home, set);
         }
     }
 
@@ -171,9 +226,12 @@ impl Bins {
                 ]);
             }
         }
-        for h in self.home.iter_mut() {
-            *h = self.table[*h as usize];
-        }
+        let table = &self.table;
+        self.home.par_chunks_mut(4096).for_each(|home| {
+            for h in home {
+                *h = table[*h as usize];
+            }
+        });
     }
 
     /// Counting sort of particles by block; within a block, in particle order. The blocks that
@@ -211,18 +269,22 @@ impl Bins {
     /// Each block's 27 neighbours.
     fn link(&mut self) {
         let nb = self.blocks.len();
-        self.neighbors.resize(nb, [NONE; 27]);
-        for b in 0..nb {
-            let c = self.blocks[b];
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let q = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        self.neighbors[b][neighbor_index([dx, dy, dz])] = self.lookup(q);
+        let mut neighbors = std::mem::take(&mut self.neighbors);
+        neighbors.resize(nb, [NONE; 27]);
+        neighbors
+            .par_iter_mut()
+            .zip(&self.blocks)
+            .for_each(|(nbs, c)| {
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let q = [c[0] + dx, c[1] + dy, c[2] + dz];
+                            nbs[neighbor_index([dx, dy, dz])] = self.lookup(q);
+                        }
                     }
                 }
-            }
-        }
+            });
+        self.neighbors = neighbors;
     }
 
     /// After the particles were reordered by `order` (`Particles::permute`): carries the
@@ -243,8 +305,7 @@ impl Bins {
 
     #[inline(always)]
     fn slot(&self, b: [i32; 3]) -> usize {
-        let r = [b[0] - self.lo[0], b[1] - self.lo[1], b[2] - self.lo[2]];
-        ((r[0] * self.dim[1] + r[1]) * self.dim[2] + r[2]) as usize
+        slot(self.lo, self.dim, b)
     }
 
     /// Active block id at block coordinates `b`, or `NONE`.
@@ -269,5 +330,29 @@ impl Bins {
             + self.cell_of.capacity()
             + self.spill.capacity()
             + self.own.capacity() * size_of::<[i32; 3]>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The neighbours a stencil touches are the box of its spill bits, the block itself always.
+    #[test]
+    fn spilled_sets_are_the_boxes_of_the_spill_bits() {
+        for (s, &set) in SPILLED.iter().enumerate() {
+            let mut expected = 0u32;
+            let range = |a: usize| -((s >> a & 1) as i32)..=(s >> (a + 3) & 1) as i32;
+            for dx in range(0) {
+                for dy in range(1) {
+                    for dz in range(2) {
+                        expected |= 1 << neighbor_index([dx, dy, dz]);
+                    }
+                }
+            }
+            assert_eq!(set, expected, "spill bits {s:06b}");
+        }
+        assert_eq!(SPILLED[0], 1 << 13);
+        assert_eq!(SPILLED[63].count_ones(), 27);
     }
 }
