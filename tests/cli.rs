@@ -2,8 +2,8 @@
 
 use std::process::Command;
 
-/// A tiny `crush bench` (one size, one thread, two steps) finishes, prints its table and writes
-/// a CSV whose rows carry plausible, self-consistent numbers.
+/// A tiny `crush bench` (one size, one thread, two steps of a tube crushed 0.1 mm) finishes,
+/// prints its table and writes a CSV whose rows carry plausible, self-consistent numbers.
 #[test]
 fn bench_writes_a_table_a_csv_and_plots() {
     let dir = tempfile::tempdir().unwrap();
@@ -20,6 +20,8 @@ fn bench_writes_a_table_a_csv_and_plots() {
             "2",
             "--repeats",
             "2",
+            "--crushed-mm",
+            "0.1",
             "--out",
         ])
         .arg(dir.path())
@@ -61,9 +63,18 @@ fn bench_writes_a_table_a_csv_and_plots() {
 
 /// Bad arguments are refused with a message, before anything runs.
 #[test]
-fn bench_refuses_a_bad_shape_and_zero_threads() {
+fn bench_refuses_a_bad_shape_zero_threads_and_a_crush_past_the_end() {
     let dir = tempfile::tempdir().unwrap();
-    for (flag, value, expect) in [("--shape", "cubic", "shape"), ("--threads", "0", "thread")] {
+    for (flag, value, expect) in [
+        ("--shape", "cubic", "shape"),
+        ("--threads", "0", "thread"),
+        ("--crushed-mm", "NaN", "distance of 0 mm or more"),
+        (
+            "--crushed-mm",
+            "50",
+            "not less than the case's crush distance, 50 mm",
+        ),
+    ] {
         let out = Command::new(env!("CARGO_BIN_EXE_crush"))
             .args(["bench", "--n", "2", flag, value, "--out"])
             .arg(dir.path())

@@ -4,7 +4,9 @@
 //! Every measurement runs in a child process (`crush bench-one`, hidden), so that its peak
 //! resident memory is its own and one run's allocations do not warm the next. A run takes a
 //! few untimed warm-up steps (first-touch page faults, grid growth) and then a fixed number of
-//! timed steps of the case's initial state. The parent repeats each configuration, reports
+//! timed steps of the case's initial state, or, with `--crushed-mm`, of the tube after that
+//! much crush (untimed): particles that have left their lattice cost more with uGIMP, whose
+//! stencils skip the nodes a particle inside one cell does not reach. The parent repeats each configuration, reports
 //! medians, and writes `bench.csv` (every run) and `bench.svg` / `bench.png` (time per
 //! particle-step against particle count).
 
@@ -40,6 +42,9 @@ pub struct BenchArgs {
     /// Timed steps per run (after 3 untimed warm-up steps).
     #[arg(long, default_value_t = 30)]
     pub steps: u64,
+    /// Crush the tube this far (mm, untimed) before the timed steps; 0 times its initial state.
+    #[arg(long, default_value_t = 0.0)]
+    pub crushed_mm: f64,
     /// Runs per configuration; the report gives their median.
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
@@ -55,6 +60,8 @@ pub struct BenchOneArgs {
     pub threads: usize,
     #[arg(long)]
     pub steps: u64,
+    #[arg(long, default_value_t = 0.0)]
+    pub crushed_mm: f64,
 }
 
 /// What one run measured.
@@ -95,6 +102,8 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
     let timing = Timing {
         steps: args.steps,
         base_rss,
+        crushed_mm: args.crushed_mm,
+        speed: case.spec().loading.plate_speed_m_s,
     };
     let model = case.spec().discretization.model;
     let sample = pool.install(|| simulate(model, case.shape(), Scene::from_case(&case), timing))?;
@@ -106,6 +115,9 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
 struct Timing {
     steps: u64,
     base_rss: Option<u64>,
+    /// Untimed crush before the timed steps, mm, at plate speed `speed` (mm/ms).
+    crushed_mm: f64,
+    speed: f64,
 }
 
 impl Driver for Timing {
@@ -113,6 +125,10 @@ impl Driver for Timing {
 
     fn drive<E: Engine>(self, mut sim: E) -> Self::Output {
         for _ in 0..3 {
+            sim.step(Real::INFINITY)?;
+        }
+        let ramp = sim.scene().ramp;
+        while self.speed * ramp.full_speed_time(sim.time()) < self.crushed_mm {
             sim.step(Real::INFINITY)?;
         }
         let warm = *sim.phases();
@@ -175,6 +191,9 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     if args.repeats == 0 || args.steps == 0 {
         bail!("--repeats and --steps must be at least 1");
     }
+    if !(args.crushed_mm >= 0.0 && args.crushed_mm.is_finite()) {
+        bail!("--crushed-mm must be a distance of 0 mm or more");
+    }
     if let Some(t) = args.threads.iter().find(|&&t| t == 0) {
         bail!("--threads {t}: a run needs at least one thread");
     }
@@ -196,8 +215,15 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
             case["discretization"]["shape"] = shape.as_str().into();
             let json = serde_json::to_string(&case)?;
             // Parse here too, so a bad shape or n is reported before anything runs.
-            Case::from_json(&json, &Limits::unbounded())
+            let parsed = Case::from_json(&json, &Limits::unbounded())
                 .map_err(|e| anyhow::anyhow!("shape {shape}, n {n}: {e}"))?;
+            if args.crushed_mm >= parsed.crush_distance_mm() {
+                bail!(
+                    "--crushed-mm {} is not less than the case's crush distance, {} mm",
+                    args.crushed_mm,
+                    parsed.crush_distance_mm()
+                );
+            }
             for &threads in &args.threads {
                 let mut row = Row {
                     shape: shape.clone(),
@@ -206,8 +232,12 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                     samples: Vec::new(),
                 };
                 for _ in 0..args.repeats {
-                    row.samples
-                        .push(run_child(&exe, &json, threads, args.steps)?);
+                    row.samples.push(run_child(
+                        &exe,
+                        &json,
+                        threads,
+                        (args.steps, args.crushed_mm),
+                    )?);
                 }
                 print_row(&row, rows.is_empty());
                 rows.push(row);
@@ -230,7 +260,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn run_child(exe: &PathBuf, json: &str, threads: usize, steps: u64) -> anyhow::Result<Sample> {
+/// One `crush bench-one` of `steps` timed steps after `crushed_mm` of untimed crush.
+fn run_child(
+    exe: &PathBuf,
+    json: &str,
+    threads: usize,
+    (steps, crushed_mm): (u64, f64),
+) -> anyhow::Result<Sample> {
     let mut child = Command::new(exe)
         .args([
             "bench-one",
@@ -238,6 +274,8 @@ fn run_child(exe: &PathBuf, json: &str, threads: usize, steps: u64) -> anyhow::R
             &threads.to_string(),
             "--steps",
             &steps.to_string(),
+            "--crushed-mm",
+            &crushed_mm.to_string(),
         ])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -256,15 +256,19 @@ impl<S: Stencil> Grid<S> {
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
-                let nbs = &neighbors[b];
+                // Where each neighbour's padded buffer starts, if it has one.
+                let starts = neighbors[b].map(|nb| match nb {
+                    NONE => NONE,
+                    nb => buffer[nb as usize],
+                });
                 for (l, o) in own.iter_mut().enumerate() {
                     o.clear::<T>();
                     for &(k, s) in links.copies_of(l) {
-                        let nb = nbs[k as usize];
-                        if nb == NONE || buffer[nb as usize] == NONE {
+                        let start = starts[k as usize];
+                        if start == NONE {
                             continue;
                         }
-                        let s = buffer[nb as usize] as usize * len + s as usize;
+                        let s = start as usize * len + s as usize;
                         // A `Remap` scatter leaves the padded mass lane 0, so adding `lo` adds
                         // only momentum.
                         o.lo += padded.lo[s];

@@ -74,8 +74,11 @@ impl<S: Stencil> Simulation<S> {
                     let col = |c: usize| f64x4::new([vs[(0, c)], vs[(1, c)], vs[(2, c)], 0.0]);
                     let (c0, c1, c2) = (col(0), col(1), col(2));
                     let t = f64x4::new([0.0, 0.0, 0.0, touch]);
-                    for i in 0..S::N {
-                        for j in 0..S::N {
+                    // Only the x and y nodes that carry weight (z rows stay whole: they are
+                    // contiguous).
+                    let (nx, ny) = (S::reach(&wx, &gx), S::reach(&wy, &gy));
+                    for i in 0..nx {
+                        for j in 0..ny {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
                             let wv = f64x4::splat(wxy);
@@ -113,8 +116,8 @@ impl<S: Stencil> Simulation<S> {
                 let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.hi, q, x[q] * inv, lp);
                 // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
                 let mut acc = f64x4::splat(0.0);
-                for i in 0..S::N {
-                    for j in 0..S::N {
+                for i in 0..S::reach(&e[0].1, &e[0].2) {
+                    for j in 0..S::reach(&e[1].1, &e[1].2) {
                         let wxy = e[0].1[i] * e[1].1[j];
                         let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
                         let mut s = f64x4::splat(0.0);
@@ -149,8 +152,8 @@ impl<S: Stencil> Simulation<S> {
                     // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
                     let zero = f64x4::splat(0.0);
                     let (mut vel, mut l0, mut l1, mut l2) = (zero, zero, zero, zero);
-                    for i in 0..S::N {
-                        for j in 0..S::N {
+                    for i in 0..S::reach(&e[0].1, &e[0].2) {
+                        for j in 0..S::reach(&e[1].1, &e[1].2) {
                             let (wx, wy) = (e[0].1[i], e[1].1[j]);
                             let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
