@@ -360,14 +360,7 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
             "{p}"
         );
     }
-    let ok = c
-        .post(app.at("/v1/estimate"))
-        .json(&json!({}))
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(ok.status(), 200);
-    let estimate: Value = ok.json().await.unwrap();
+    let estimate = app.estimate(&json!({})).await;
     assert_eq!(estimate["steps"], 15687, "{estimate}");
     // The default case (axial, no trigger) qualifies for the axisymmetric model: the estimate
     // says what it would cost and what it cannot show; a triggered case does not qualify.
@@ -376,15 +369,7 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     assert!(reduced["speedup"].as_f64().unwrap() > 10.0, "{estimate}");
     assert!(reduced["cannot_show"].as_str().unwrap().contains("lobes"));
     let triggered = json!({"trigger": {"weak_fraction": 0.003}});
-    let e: Value = c
-        .post(app.at("/v1/estimate"))
-        .json(&triggered)
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
+    let e = app.estimate(&triggered).await;
     assert!(e.get("reduced").is_none(), "{e}");
     // The estimate names the shape functions: the default one with why (uGIMP for the thick
     // default tube, linear for a thin wall in 3D), a named one bare.
@@ -395,29 +380,13 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     );
     let thin = json!({"tube": {"thickness_mm": 0.76, "mean_diameter_mm": 19.81, "length_mm": 20},
                       "loading": {"crush_distance_mm": 5}});
-    let e: Value = c
-        .post(app.at("/v1/estimate"))
-        .json(&thin)
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
+    let e = app.estimate(&thin).await;
     assert_eq!(e["shape"]["kind"], "linear", "{e}");
     let why = e["shape"]["default_reason"].as_str().unwrap();
     assert!(why.contains("d/t = 26.1"), "{why}");
     let mut named = thin.clone();
     named["discretization"] = json!({"shape": "gimp"});
-    let e: Value = c
-        .post(app.at("/v1/estimate"))
-        .json(&named)
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
+    let e = app.estimate(&named).await;
     assert_eq!(e["shape"], json!({"kind": "gimp"}), "{e}");
     // A model that does not fit the scene is refused with the field named.
     let wrong =

@@ -370,15 +370,7 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_estimate_gives_the_cost_of_a_case() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
-    let r = app
-        .client
-        .post(app.at("/v1/estimate"))
-        .json(&tiny_case())
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 200);
-    let e: Value = r.json().await.unwrap();
+    let e = app.estimate(&tiny_case()).await;
     for key in ["particles", "cells", "steps", "memory_bytes", "wall_time_s"] {
         assert!(e[key].as_f64().unwrap() > 0.0, "{key} in {e}");
     }

@@ -163,9 +163,9 @@ impl ShapeKind {
     /// both plates and then tip over between the near-frictionless plates of the source, where
     /// linear shapes fold them progressively, as the source's tubes did. Every other case gets
     /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7).
-    pub fn default_for(tube: &Tube, model: Model) -> (ShapeKind, String) {
+    pub fn default_for(tube: &Tube, model: Model) -> ShapeChoice {
         let slenderness = tube.mean_diameter_mm / tube.thickness_mm;
-        match model {
+        let (kind, why) = match model {
             Model::ThreeD if slenderness >= LINEAR_FROM_D_OVER_T => (
                 ShapeKind::Linear,
                 format!(
@@ -183,6 +183,10 @@ impl ShapeKind {
                 ShapeKind::Gimp,
                 "gimp: the default of the reduced models, where it converges".into(),
             ),
+        };
+        ShapeChoice {
+            kind,
+            default_reason: Some(why),
         }
     }
 }
@@ -594,13 +598,7 @@ impl Case {
                         kind,
                         default_reason: None,
                     },
-                    None => {
-                        let (kind, why) = ShapeKind::default_for(&spec.tube, d.model);
-                        ShapeChoice {
-                            kind,
-                            default_reason: Some(why),
-                        }
-                    }
+                    None => ShapeKind::default_for(&spec.tube, d.model),
                 },
                 spec,
                 crush_distance_mm: crush,

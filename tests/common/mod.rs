@@ -106,6 +106,23 @@ impl TestApp {
         self.client.post(self.at(path)).send().await.unwrap()
     }
 
+    /// `POST path` with a JSON body, whatever the answer.
+    pub async fn post_json(&self, path: &str, body: &Value) -> reqwest::Response {
+        self.client
+            .post(self.at(path))
+            .json(body)
+            .send()
+            .await
+            .unwrap()
+    }
+
+    /// The estimate of a case; panics unless it is answered (200).
+    pub async fn estimate(&self, case: &Value) -> Value {
+        let r = self.post_json("/v1/estimate", case).await;
+        assert_eq!(r.status(), 200, "{}", r.text().await.unwrap());
+        r.json().await.unwrap()
+    }
+
     /// Submits a case; panics unless it is accepted.
     pub async fn submit(&self, case: &Value) -> Value {
         let r = self

@@ -79,7 +79,8 @@ pub struct Bins {
     /// over from its neighbours has none: its padded buffer would stay zero, and on a tube's
     /// wall a third to a half of the active blocks are such.
     pub occupied: Vec<u32>,
-    /// Per active block: its padded buffer (its index in `occupied`), or `u32::MAX` for none.
+    /// Per active block: its place in `occupied` (which indexes its padded buffer and its cell
+    /// averages), or `u32::MAX` for a block without particles.
     pub buffer: Vec<u32>,
     /// Each particle's cell within its block, 0..64.
     pub cell_of: Vec<u8>,

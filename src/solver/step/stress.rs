@@ -18,8 +18,9 @@ use rayon::prelude::*;
 /// Particles per stress update in one go: one per lane of `f64x4`.
 const LANES: usize = 4;
 
-/// Per active block and cell: the volume-weighted mean dilation rate tr(L) (1/ms) and pressure
-/// (MPa) of the particles in the cell.
+/// Per block that holds particles (in the order of [`Bins::occupied`]) and cell: the
+/// volume-weighted mean dilation rate tr(L) (1/ms) and pressure (MPa) of the particles in the
+/// cell.
 #[derive(Debug, Default)]
 pub struct VolumetricAverages {
     dilation: Vec<[Real; 64]>,
@@ -29,17 +30,17 @@ pub struct VolumetricAverages {
 impl VolumetricAverages {
     /// Averages over the cells of `bins`, from the particles' stresses and velocity gradients.
     fn compute(&mut self, bins: &Bins, p: &Particles, grad: &[Gradient]) {
-        let nb = bins.blocks.len();
-        self.dilation.resize(nb, [0.0; 64]);
-        self.pressure.resize(nb, [0.0; 64]);
+        let occupied = bins.occupied.len();
+        self.dilation.resize(occupied, [0.0; 64]);
+        self.pressure.resize(occupied, [0.0; 64]);
         (self.dilation.par_iter_mut(), self.pressure.par_iter_mut())
             .into_par_iter()
-            .enumerate()
-            .for_each(|(b, (dil, pre))| {
+            .zip(&bins.occupied)
+            .for_each(|((dil, pre), &b)| {
                 let mut vol = [0.0; 64];
                 *dil = [0.0; 64];
                 *pre = [0.0; 64];
-                for &q in bins.particles_of(b) {
+                for &q in bins.particles_of(b as usize) {
                     let q = q as usize;
                     let c = bins.cell_of[q] as usize;
                     let s = &p.stress[q];
@@ -60,7 +61,8 @@ impl VolumetricAverages {
     #[inline(always)]
     fn of(&self, bins: &Bins, q: usize) -> (Real, Real) {
         let (b, cell) = (bins.home[q] as usize, bins.cell_of[q] as usize);
-        (self.dilation[b][cell], self.pressure[b][cell])
+        let s = bins.buffer[b] as usize;
+        (self.dilation[s][cell], self.pressure[s][cell])
     }
 
     pub fn bytes(&self) -> usize {
