@@ -5,8 +5,8 @@
 //! resident memory is its own and one run's allocations do not warm the next. A run takes a
 //! few untimed warm-up steps (first-touch page faults, grid growth) and then a fixed number of
 //! timed steps of the case's initial state, or, with `--crushed-mm`, of the tube after that
-//! much crush (untimed): particles that have left their lattice cost more with uGIMP, whose
-//! stencils skip the nodes a particle inside one cell does not reach. The parent repeats each configuration, reports
+//! much crush (untimed): a folding tube costs more than its initial state (more blocks, and
+//! uGIMP stencils that reach more nodes). The parent repeats each configuration, reports
 //! medians, and writes `bench.csv` (every run) and `bench.svg` / `bench.png` (time per
 //! particle-step against particle count).
 
@@ -232,12 +232,8 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                     samples: Vec::new(),
                 };
                 for _ in 0..args.repeats {
-                    row.samples.push(run_child(
-                        &exe,
-                        &json,
-                        threads,
-                        (args.steps, args.crushed_mm),
-                    )?);
+                    let sample = run_child(&exe, &json, threads, args.steps, args.crushed_mm)?;
+                    row.samples.push(sample);
                 }
                 print_row(&row, rows.is_empty());
                 rows.push(row);
@@ -265,7 +261,8 @@ fn run_child(
     exe: &PathBuf,
     json: &str,
     threads: usize,
-    (steps, crushed_mm): (u64, f64),
+    steps: u64,
+    crushed_mm: f64,
 ) -> anyhow::Result<Sample> {
     let mut child = Command::new(exe)
         .args([

@@ -67,8 +67,9 @@ impl Stencil for Gimp {
     }
 
     /// Two nodes while the particle lies inside one cell (c = 0: the third weight and its
-    /// derivative are both exactly zero), three once it straddles a node. A lattice particle
-    /// sits at the switch, and in a crush about half the particles straddle on each axis.
+    /// derivative are both exactly zero), three once it straddles a node: on an axis where
+    /// the particle sits at a random place, for a fraction 2·lp of the time (half, at the
+    /// default lp of a quarter cell).
     #[inline(always)]
     fn reach(w: &[f64; 3], g: &[f64; 3]) -> usize {
         2 + (w[2] != 0.0 || g[2] != 0.0) as usize

@@ -6,7 +6,7 @@
 
 use super::super::shape::Stencil;
 use super::super::Real;
-use super::{neighbor_index, BLOCK, NONE};
+use super::{neighbor_index, neighbor_offset, BLOCK, NONE};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -23,7 +23,7 @@ const fn spilled() -> [u32; 64] {
         let mut set = 0;
         let mut n = 0;
         while n < 27 {
-            let d = [n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1];
+            let d = neighbor_offset(n);
             let mut inside = true;
             let mut a = 0;
             while a < 3 {
@@ -48,7 +48,7 @@ fn mark_around(table: &mut [u32], dim: [i32; 3], home: usize, set: u32) {
     let (plane, row) = (dim[1] * dim[2], dim[2]);
     for n in 0..27 {
         if set >> n & 1 == 1 {
-            let d = [n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1];
+            let d = neighbor_offset(n);
             let t = home as i32 + d[0] * plane + d[1] * row + d[2];
             table[t as usize] = MARK;
         }
@@ -296,6 +296,15 @@ impl Bins {
         for (i, o) in self.order.iter_mut().enumerate() {
             *o = i as u32;
         }
+    }
+
+    /// Block `b`'s place in `occupied`: its padded buffer and its cell averages. The block must
+    /// hold particles.
+    #[inline(always)]
+    pub fn place(&self, b: usize) -> usize {
+        let s = self.buffer[b];
+        debug_assert!(s != NONE, "block {b} holds no particles");
+        s as usize
     }
 
     /// The particles of block `b`.

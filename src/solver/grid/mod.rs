@@ -7,8 +7,8 @@
 //! Parallel scatter without atomics or aliasing: each block that holds particles also has a
 //! *padded* buffer covering its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds the whole
 //! stencil of every particle whose cell lies in the block (blocks that only receive spilled
-//! stencils have none: [`bin::Bins::occupied`]). Particle→grid writes only the padded buffer of the particle's
-//! block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a fixed order, and
+//! stencils have none: [`bin::Bins::occupied`]). Particle→grid writes only the padded buffer
+//! of the particle's block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a fixed order, and
 //! [`Grid::broadcast`] copies owned values back into the padded buffers for grid→particle
 //! reads. Results are independent of the thread count.
 //!
@@ -142,8 +142,8 @@ impl Gathered for Velocity {
 }
 
 /// The padded buffer of every block that holds particles ([`Grid::PADDED_LEN`] nodes each, in
-/// the order of [`bin::Bins::occupied`]), as two arrays: the
-/// `lo` and the `hi` half of each [`Node`]. Two arrays and not one of nodes, because only the
+/// the order of [`bin::Bins::occupied`]), as two arrays: the `lo` and the `hi` half of each
+/// [`Node`]. Two arrays and not one of nodes, because only the
 /// [`Full`] scatter and its reduce need both halves: the [`Remap`] scatter, its reduce, both
 /// broadcasts and both gathers stream half the bytes.
 #[derive(Debug, Default)]
@@ -222,17 +222,6 @@ impl<S: Stencil> Grid<S> {
         &half[s * Self::PADDED_LEN..(s + 1) * Self::PADDED_LEN]
     }
 
-    /// The padded buffer of block `b`, which must hold particles.
-    #[inline(always)]
-    pub fn buffer(&self, b: usize) -> usize {
-        let s = self.bins.buffer[b];
-        debug_assert!(
-            s != NONE,
-            "block {b} holds no particles and has no padded buffer"
-        );
-        s as usize
-    }
-
     /// Sorts particles into blocks, activates every block a stencil touches and sizes the
     /// node buffers for them. `lp` is the particle half-size in grid units.
     pub fn bin(&mut self, x: &[Vector3<Real>], lp: Real) {
@@ -256,19 +245,19 @@ impl<S: Stencil> Grid<S> {
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
-                // Where each neighbour's padded buffer starts, if it has one.
-                let starts = neighbors[b].map(|nb| match nb {
+                // Each neighbour's padded buffer, if it has one.
+                let buffers = neighbors[b].map(|nb| match nb {
                     NONE => NONE,
                     nb => buffer[nb as usize],
                 });
                 for (l, o) in own.iter_mut().enumerate() {
                     o.clear::<T>();
                     for &(k, s) in links.copies_of(l) {
-                        let start = starts[k as usize];
-                        if start == NONE {
+                        let nb = buffers[k as usize];
+                        if nb == NONE {
                             continue;
                         }
-                        let s = start as usize * len + s as usize;
+                        let s = nb as usize * len + s as usize;
                         // A `Remap` scatter leaves the padded mass lane 0, so adding `lo` adds
                         // only momentum.
                         o.lo += padded.lo[s];
@@ -390,7 +379,7 @@ fn overlap3<S: Stencil>(e: [i32; 3]) -> Option<[(usize, usize, usize); 3]> {
 
 /// The offset in {−1, 0, 1}³ of neighbour `k` (see [`neighbor_index`]).
 #[inline(always)]
-fn neighbor_offset(k: usize) -> [i32; 3] {
+pub const fn neighbor_offset(k: usize) -> [i32; 3] {
     let k = k as i32;
     [k / 9 - 1, (k / 3) % 3 - 1, k % 3 - 1]
 }

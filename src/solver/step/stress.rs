@@ -61,7 +61,7 @@ impl VolumetricAverages {
     #[inline(always)]
     fn of(&self, bins: &Bins, q: usize) -> (Real, Real) {
         let (b, cell) = (bins.home[q] as usize, bins.cell_of[q] as usize);
-        let s = bins.buffer[b] as usize;
+        let s = bins.place(b);
         (self.dilation[s][cell], self.pressure[s][cell])
     }
 

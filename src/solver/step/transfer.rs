@@ -115,9 +115,10 @@ impl<S: Stencil> Simulation<S> {
                 let q = c * CHUNK + i;
                 let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.hi, q, x[q] * inv, lp);
                 // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
+                let (nx, ny) = (S::reach(&e[0].1, &e[0].2), S::reach(&e[1].1, &e[1].2));
                 let mut acc = f64x4::splat(0.0);
-                for i in 0..S::reach(&e[0].1, &e[0].2) {
-                    for j in 0..S::reach(&e[1].1, &e[1].2) {
+                for i in 0..nx {
+                    for j in 0..ny {
                         let wxy = e[0].1[i] * e[1].1[j];
                         let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
                         let mut s = f64x4::splat(0.0);
@@ -152,8 +153,9 @@ impl<S: Stencil> Simulation<S> {
                     // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
                     let zero = f64x4::splat(0.0);
                     let (mut vel, mut l0, mut l1, mut l2) = (zero, zero, zero, zero);
-                    for i in 0..S::reach(&e[0].1, &e[0].2) {
-                        for j in 0..S::reach(&e[1].1, &e[1].2) {
+                    let (nx, ny) = (S::reach(&e[0].1, &e[0].2), S::reach(&e[1].1, &e[1].2));
+                    for i in 0..nx {
+                        for j in 0..ny {
                             let (wx, wy) = (e[0].1[i], e[1].1[j]);
                             let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
                             let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
@@ -200,7 +202,7 @@ fn stencil<'a, S: Stencil>(
 ) {
     let b = g.bins.home[q] as usize;
     let o = g.padded_origin(b);
-    let s = g.buffer(b);
+    let s = g.bins.place(b);
     let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
     debug_assert!((0..3).all(|a| e[a].0 - o[a] >= 0 && (e[a].0 - o[a]) as usize + S::N <= S::PAD));
     (
