@@ -234,43 +234,55 @@ impl<S: Stencil> Grid<S> {
     }
 
     /// Sums the padded buffers into the owned nodes: what transfer `T` scattered. Each owned
-    /// node adds its padded copies in the order of the neighbours that hold them, whatever the
-    /// thread count. Neighbours without particles have no buffer and are skipped: their copies
-    /// would be zeros, and adding +0 to a sum begun at +0 changes no bit.
+    /// node adds its padded copies in the order of the neighbours that hold them (box by box,
+    /// [`Links::received`]), whatever the thread count. Neighbours without particles have no
+    /// buffer and are skipped: their copies would be zeros, and adding +0 to a sum begun at +0
+    /// changes no bit.
     pub fn reduce<T: Transfer>(&mut self) {
         let (padded, neighbors, links) = (&self.padded, &self.bins.neighbors, &self.links);
         let buffer = &self.bins.buffer;
-        let len = Self::PADDED_LEN;
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
             .for_each(|(b, own)| {
-                // Each neighbour's padded buffer, if it has one.
-                let buffers = neighbors[b].map(|nb| match nb {
-                    NONE => NONE,
-                    nb => buffer[nb as usize],
-                });
-                for (l, o) in own.iter_mut().enumerate() {
-                    o.clear::<T>();
-                    for &(k, s) in links.copies_of(l) {
-                        let nb = buffers[k as usize];
-                        if nb == NONE {
-                            continue;
-                        }
-                        let s = nb as usize * len + s as usize;
-                        // A `Remap` scatter leaves the padded mass lane 0, so adding `lo` adds
-                        // only momentum.
-                        o.lo += padded.lo[s];
-                        if T::FULL {
-                            o.hi += padded.hi[s];
+                own.iter_mut().for_each(Node::clear::<T>);
+                for &(n, [x, y, z]) in &links.received {
+                    let s = match neighbors[b][n as usize] {
+                        NONE => continue,
+                        nb => buffer[nb as usize],
+                    };
+                    if s == NONE {
+                        continue;
+                    }
+                    let lo = Self::buffer_of(&padded.lo, s as usize);
+                    let hi = if T::FULL {
+                        Self::buffer_of(&padded.hi, s as usize)
+                    } else {
+                        &[]
+                    };
+                    for i in 0..x.2 {
+                        for j in 0..y.2 {
+                            let from = Self::padded_index(x.0 + i, y.0 + j, z.0);
+                            let to = owned_index(x.1 + i, y.1 + j, z.1);
+                            let own = &mut own[to..to + z.2];
+                            // A `Remap` scatter leaves the padded mass lane 0, so adding `lo`
+                            // adds only momentum.
+                            for (o, l) in own.iter_mut().zip(&lo[from..from + z.2]) {
+                                o.lo += *l;
+                            }
+                            if T::FULL {
+                                for (o, h) in own.iter_mut().zip(&hi[from..from + z.2]) {
+                                    o.hi += *h;
+                                }
+                            }
                         }
                     }
                 }
             });
     }
 
-    /// Copies half `G` of the owned nodes into every padded buffer that holds them, each
-    /// buffer written front to back.
+    /// Copies half `G` of the owned nodes into every padded buffer that holds them, box by box
+    /// ([`Links::owned_by`]); the nodes of a neighbour that has none are zero.
     pub fn broadcast<G: Gathered>(&mut self) {
         let (owned, neighbors, links) = (&self.owned, &self.bins.neighbors, &self.links);
         let occupied = &self.bins.occupied;
@@ -283,18 +295,22 @@ impl<S: Stencil> Grid<S> {
             .enumerate()
             .for_each(|(s, buf)| {
                 let nbs = &neighbors[occupied[s] as usize];
-                for (n, &(k, l)) in buf.iter_mut().zip(&links.owner) {
-                    let nb = nbs[k as usize];
-                    *n = if nb == NONE {
-                        f64x4::splat(0.0)
-                    } else {
-                        let o = &owned[nb as usize * OWNED + l as usize];
-                        if G::LO {
-                            o.lo
-                        } else {
-                            o.hi
+                for &(n, [x, y, z]) in &links.owned_by {
+                    let nb = nbs[n as usize];
+                    for i in 0..x.2 {
+                        for j in 0..y.2 {
+                            let to = Self::padded_index(x.0 + i, y.0 + j, z.0);
+                            let buf = &mut buf[to..to + z.2];
+                            if nb == NONE {
+                                buf.fill(f64x4::splat(0.0));
+                                continue;
+                            }
+                            let from = nb as usize * OWNED + owned_index(x.1 + i, y.1 + j, z.1);
+                            for (n, o) in buf.iter_mut().zip(&owned[from..from + z.2]) {
+                                *n = if G::LO { o.lo } else { o.hi };
+                            }
                         }
-                    };
+                    }
                 }
             });
     }
@@ -308,63 +324,49 @@ impl<S: Stencil> Grid<S> {
 }
 
 /// The map between a block's padded nodes and the owned nodes they copy, built once per shape
-/// function: the same for every block, with neighbours named by [`neighbor_index`].
+/// function: the same for every block, with neighbours named by [`neighbor_index`], as boxes of
+/// nodes: per axis (first padded coordinate, first owned coordinate, count).
 #[derive(Debug)]
 struct Links {
-    /// Per owned node of a block (0..64): its copies in padded buffers, as (neighbour index,
-    /// padded index in that neighbour's buffer), in neighbour order:
-    /// `copies[starts[l]..starts[l + 1]]`.
-    starts: [u16; OWNED + 1],
-    copies: Vec<(u8, u16)>,
-    /// Per padded node of a block: the neighbour that owns it and its index there.
-    owner: Vec<(u8, u8)>,
+    /// Per neighbour whose padded buffer holds some of our owned nodes, in neighbour order:
+    /// where they are in its buffer, and which of ours they are.
+    received: Vec<(u8, Shared)>,
+    /// Per neighbour that owns some of our padded nodes: which of ours they are, and where they
+    /// are among its owned nodes. The boxes tile our padded buffer.
+    owned_by: Vec<(u8, Shared)>,
+}
+
+/// A box of nodes that a padded buffer and a block's owned nodes share: per axis (first padded
+/// coordinate, first owned coordinate, count).
+type Shared = [(usize, usize, usize); 3];
+
+/// Index of owned node (i, j, k) of a block.
+#[inline(always)]
+fn owned_index(i: usize, j: usize, k: usize) -> usize {
+    (i * BLOCK as usize + j) * BLOCK as usize + k
 }
 
 impl Links {
     fn new<S: Stencil>() -> Links {
-        let pad = S::PAD;
-        let index = |i: usize, j: usize, k: usize| (i * pad + j) * pad + k;
-        let local = |i: usize, j: usize, k: usize| (i * 4 + j) * 4 + k;
-        let mut owner = vec![(0, 0); pad * pad * pad];
-        let mut per_node: Vec<Vec<(u8, u16)>> = vec![Vec::new(); OWNED];
+        let mut received = Vec::new();
+        let mut owned_by = Vec::new();
         for n in 0..27 {
             // Our padded nodes owned by neighbour n.
-            if let Some([x, y, z]) = overlap3::<S>(neighbor_offset(n)) {
-                for (i, j, k) in cube(x.2, y.2, z.2) {
-                    let l = local(x.1 + i, y.1 + j, z.1 + k) as u8;
-                    owner[index(x.0 + i, y.0 + j, z.0 + k)] = (n as u8, l);
-                }
+            if let Some(shared) = overlap3::<S>(neighbor_offset(n)) {
+                owned_by.push((n as u8, shared));
             }
             // Our owned nodes in neighbour n's padded buffer: it holds them as its neighbour
             // at the opposite offset.
-            let e = neighbor_offset(n).map(|d| -d);
-            if let Some([x, y, z]) = overlap3::<S>(e) {
-                for (i, j, k) in cube(x.2, y.2, z.2) {
-                    let s = index(x.0 + i, y.0 + j, z.0 + k) as u16;
-                    per_node[local(x.1 + i, y.1 + j, z.1 + k)].push((n as u8, s));
-                }
+            if let Some(shared) = overlap3::<S>(neighbor_offset(n).map(|d| -d)) {
+                received.push((n as u8, shared));
             }
         }
-        let mut starts = [0; OWNED + 1];
-        for l in 0..OWNED {
-            starts[l + 1] = starts[l] + per_node[l].len() as u16;
-        }
-        Links {
-            starts,
-            copies: per_node.concat(),
-            owner,
-        }
+        let volume =
+            |l: &[(u8, Shared)]| -> usize { l.iter().map(|(_, [x, y, z])| x.2 * y.2 * z.2).sum() };
+        debug_assert_eq!(volume(&owned_by), S::PAD * S::PAD * S::PAD);
+        debug_assert_eq!(volume(&received), S::PAD * S::PAD * S::PAD);
+        Links { received, owned_by }
     }
-
-    #[inline(always)]
-    fn copies_of(&self, l: usize) -> &[(u8, u16)] {
-        &self.copies[self.starts[l] as usize..self.starts[l + 1] as usize]
-    }
-}
-
-/// (i, j, k) over 0..nx × 0..ny × 0..nz, k fastest.
-fn cube(nx: usize, ny: usize, nz: usize) -> impl Iterator<Item = (usize, usize, usize)> {
-    (0..nx).flat_map(move |i| (0..ny).flat_map(move |j| (0..nz).map(move |k| (i, j, k))))
 }
 
 /// [`overlap`] on all three axes, for a neighbour offset `e`; None if any axis has none.
