@@ -8,9 +8,9 @@
 //! *padded* buffer covering its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds the whole
 //! stencil of every particle whose cell lies in the block (blocks that only receive spilled
 //! stencils have none: [`bin::Bins::occupied`]). Particle→grid writes only the padded buffer
-//! of the particle's block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a fixed order, and
-//! [`Grid::broadcast`] copies owned values back into the padded buffers for grid→particle
-//! reads. Results are independent of the thread count.
+//! of the particle's block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a
+//! fixed order, so results are independent of the thread count. Grid→particle reads copies of
+//! the owned nodes around a block ([`Grid::halo`]) that the gather keeps in working memory.
 //!
 //! What a node holds changes by phase of the step; [`Node`]'s accessors are named by phase and
 //! [`Transfer`] says which lanes a scatter fills, reduces and clears.
@@ -28,7 +28,7 @@ use wide::f64x4;
 pub const BLOCK: i32 = 4;
 /// Owned nodes per block.
 pub const OWNED: usize = 64;
-const NONE: u32 = u32::MAX;
+pub const NONE: u32 = u32::MAX;
 
 /// Which particle→grid transfer a scatter is; one type drives what the scatter writes, what
 /// [`Grid::reduce`] sums and what it clears, so that the three cannot disagree.
@@ -122,8 +122,8 @@ impl Node {
     }
 }
 
-/// Which half of the nodes a [`Grid::broadcast`] copies into the padded buffers: what the
-/// gather that follows reads, and no more.
+/// Which half of the nodes a [`Grid::halo`] copies: what the gather that follows reads, and no
+/// more.
 pub trait Gathered: Send + Sync + 'static {
     /// `lo` ([mass, a]); else `hi` ([b, touch]).
     const LO: bool;
@@ -143,9 +143,8 @@ impl Gathered for Velocity {
 
 /// The padded buffer of every block that holds particles ([`Grid::PADDED_LEN`] nodes each, in
 /// the order of [`bin::Bins::occupied`]), as two arrays: the `lo` and the `hi` half of each
-/// [`Node`]. Two arrays and not one of nodes, because only the
-/// [`Full`] scatter and its reduce need both halves: the [`Remap`] scatter, its reduce, both
-/// broadcasts and both gathers stream half the bytes.
+/// [`Node`]. Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce
+/// need both halves: the [`Remap`] scatter and its reduce stream half the bytes.
 #[derive(Debug, Default)]
 pub struct Padded {
     pub lo: Vec<f64x4>,
@@ -281,38 +280,28 @@ impl<S: Stencil> Grid<S> {
             });
     }
 
-    /// Copies half `G` of the owned nodes into every padded buffer that holds them, box by box
-    /// ([`Links::owned_by`]); the nodes of a neighbour that has none are zero.
-    pub fn broadcast<G: Gathered>(&mut self) {
-        let (owned, neighbors, links) = (&self.owned, &self.bins.neighbors, &self.links);
-        let occupied = &self.bins.occupied;
-        let half = if G::LO {
-            &mut self.padded.lo
-        } else {
-            &mut self.padded.hi
-        };
-        half.par_chunks_mut(Self::PADDED_LEN)
-            .enumerate()
-            .for_each(|(s, buf)| {
-                let nbs = &neighbors[occupied[s] as usize];
-                for &(n, [x, y, z]) in &links.owned_by {
-                    let nb = nbs[n as usize];
-                    for i in 0..x.2 {
-                        for j in 0..y.2 {
-                            let to = Self::padded_index(x.0 + i, y.0 + j, z.0);
-                            let buf = &mut buf[to..to + z.2];
-                            if nb == NONE {
-                                buf.fill(f64x4::splat(0.0));
-                                continue;
-                            }
-                            let from = nb as usize * OWNED + owned_index(x.1 + i, y.1 + j, z.1);
-                            for (n, o) in buf.iter_mut().zip(&owned[from..from + z.2]) {
-                                *n = if G::LO { o.lo } else { o.hi };
-                            }
-                        }
+    /// Copies half `G` of the owned nodes that block `b`'s padded buffer covers into `buf`
+    /// (its first [`Grid::PADDED_LEN`] nodes), box by box ([`Links::owned_by`]); the nodes of
+    /// a neighbour that is not active are zero.
+    pub fn halo<G: Gathered>(&self, b: usize, buf: &mut [f64x4]) {
+        let nbs = &self.bins.neighbors[b];
+        for &(n, [x, y, z]) in &self.links.owned_by {
+            let nb = nbs[n as usize];
+            for i in 0..x.2 {
+                for j in 0..y.2 {
+                    let to = Self::padded_index(x.0 + i, y.0 + j, z.0);
+                    let buf = &mut buf[to..to + z.2];
+                    if nb == NONE {
+                        buf.fill(f64x4::splat(0.0));
+                        continue;
+                    }
+                    let from = nb as usize * OWNED + owned_index(x.1 + i, y.1 + j, z.1);
+                    for (n, o) in buf.iter_mut().zip(&self.owned[from..from + z.2]) {
+                        *n = if G::LO { o.lo } else { o.hi };
                     }
                 }
-            });
+            }
+        }
     }
 
     /// Bytes held by the grid and the binning arrays.
@@ -452,15 +441,16 @@ mod tests {
         g.reduce::<Full>();
         let total: Real = g.owned.iter().map(|n| n.mass()).sum();
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
-        g.broadcast::<Velocity>();
-        // Every padded node now equals its owner.
+        // A halo holds every owned node its block's padded buffer covers.
         assert!(
             g.bins.occupied.len() < g.len(),
             "some blocks only receive spilled stencils"
         );
-        for (s, &b) in g.bins.occupied.iter().enumerate() {
+        let mut halo = vec![f64x4::splat(-1.0); len];
+        for &b in &g.bins.occupied {
             let o = g.padded_origin(b as usize);
-            for (q, n) in Grid::<S>::buffer_of(&g.padded.lo, s).iter().enumerate() {
+            g.halo::<Velocity>(b as usize, &mut halo);
+            for (q, n) in halo.iter().enumerate() {
                 let node = [
                     o[0] + (q / (pad * pad)) as i32,
                     o[1] + ((q / pad) % pad) as i32,
@@ -481,6 +471,8 @@ mod tests {
                     let on =
                         g.owned[owner as usize * OWNED + ((l[0] * 4 + l[1]) * 4 + l[2]) as usize];
                     assert_eq!(n.as_array()[0], on.mass());
+                } else {
+                    assert_eq!(n.as_array(), &[0.0; 4], "a node no block owns is zero");
                 }
             }
         }

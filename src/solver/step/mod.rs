@@ -30,7 +30,7 @@ use super::case::{Model, ShapeKind};
 use super::contact::ContactSums;
 #[cfg(doc)]
 use super::grid::Node;
-use super::grid::{Full, Grid, Remap, Velocity, VelocityChange};
+use super::grid::{Full, Grid, Remap};
 use super::scene::Scene;
 use super::section::{Section, Symmetry};
 use super::shape::{Gimp, Linear, Stencil};
@@ -85,7 +85,7 @@ pub struct PhaseTimes {
     pub bin: f64,
     /// Particle → grid transfers (both).
     pub p2g: f64,
-    /// Reductions, grid updates with contact, broadcasts.
+    /// Reductions and grid updates with contact.
     pub grid: f64,
     /// Grid → particle transfers (velocity; gradient and position).
     pub g2p: f64,
@@ -218,13 +218,11 @@ impl<S: Stencil> Simulation<S> {
         clock.lap(&mut self.phases.bin);
         self.scatter::<Full>(lp, &mut clock);
         let contact = self.grid_update(dt);
-        self.grid.broadcast::<VelocityChange>();
         clock.lap(&mut self.phases.grid);
         self.g2p_velocity(lp);
         clock.lap(&mut self.phases.g2p);
         self.scatter::<Remap>(lp, &mut clock);
         self.remap();
-        self.grid.broadcast::<Velocity>();
         clock.lap(&mut self.phases.grid);
         self.g2p_kinematics(lp, dt);
         clock.lap(&mut self.phases.g2p);

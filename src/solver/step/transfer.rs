@@ -2,13 +2,14 @@
 //! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
 
 use super::super::contact::{self, CONTACT_TOLERANCE};
-use super::super::grid::{Grid, Transfer};
+use super::super::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
 use super::super::material::to_matrix;
 use super::super::shape::Stencil;
 use super::super::Real;
 use super::{Clock, Simulation};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
+use std::marker::PhantomData;
 use wide::f64x4;
 
 /// Particles per parallel work item in particle-order passes.
@@ -111,9 +112,10 @@ impl<S: Stencil> Simulation<S> {
         let p = &mut self.scene.particles;
         let x = &p.x;
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
+            let mut halo = Halo::<VelocityChange>::new();
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
-                let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.hi, q, x[q] * inv, lp);
+                let (pad, ox, oy, oz, e) = halo.stencil(g, q, x[q] * inv, lp);
                 // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
                 let (nx, ny) = (S::reach(&e[0].1, &e[0].2), S::reach(&e[1].1, &e[1].2));
                 let mut acc = f64x4::splat(0.0);
@@ -146,9 +148,10 @@ impl<S: Stencil> Simulation<S> {
             .into_par_iter()
             .enumerate()
             .for_each(|(c, (xs, ls))| {
+                let mut halo = Halo::<Velocity>::new();
                 for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
                     let q = c * CHUNK + i;
-                    let (pad, ox, oy, oz, e) = stencil::<S>(g, &g.padded.lo, q, *x * inv, lp);
+                    let (pad, ox, oy, oz, e) = halo.stencil(g, q, *x * inv, lp);
                     // Lanes 1..4 of `lo` are the velocity. Per (i, j) row, s = Σ v·N_z and
                     // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
                     let zero = f64x4::splat(0.0);
@@ -184,32 +187,63 @@ impl<S: Stencil> Simulation<S> {
     }
 }
 
-/// A particle's block of padded `half`, its stencil's offset in it and the per-axis weights.
-#[inline(always)]
-#[allow(clippy::type_complexity)]
-fn stencil<'a, S: Stencil>(
-    g: &Grid<S>,
-    half: &'a [f64x4],
-    q: usize,
-    xg: Vector3<Real>,
-    lp: Real,
-) -> (
-    &'a [f64x4],
-    usize,
-    usize,
-    usize,
-    [(i32, [Real; 3], [Real; 3]); 3],
-) {
-    let b = g.bins.home[q] as usize;
-    let o = g.padded_origin(b);
-    let s = g.bins.place(b);
-    let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
-    debug_assert!((0..3).all(|a| e[a].0 - o[a] >= 0 && (e[a].0 - o[a]) as usize + S::N <= S::PAD));
-    (
-        Grid::<S>::buffer_of(half, s),
-        (e[0].0 - o[0]) as usize,
-        (e[1].0 - o[1]) as usize,
-        (e[2].0 - o[2]) as usize,
-        e,
-    )
+/// Nodes per padded buffer of the widest stencil (uGIMP's 7³).
+const MAX_PADDED: usize = 343;
+
+/// A gather's copy of half `G` of the nodes around one block (its padded buffer's nodes), in
+/// working memory: it is filled from the owned nodes when the gather reaches a particle whose
+/// stencil it does not hold, for that particle's block. Particles are kept in block order
+/// ([`super::RESORT_EVERY`]), so a chunk of particles fills it about once per block it spans.
+struct Halo<G: Gathered> {
+    block: u32,
+    nodes: [f64x4; MAX_PADDED],
+    half: PhantomData<G>,
+}
+
+impl<G: Gathered> Halo<G> {
+    fn new() -> Self {
+        Halo {
+            block: NONE,
+            nodes: [f64x4::splat(0.0); MAX_PADDED],
+            half: PhantomData,
+        }
+    }
+
+    /// Padded nodes that hold particle `q`'s stencil (those around its block, or around the
+    /// block held if they hold it too), the stencil's offset in them and the per-axis weights.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn stencil<S: Stencil>(
+        &mut self,
+        g: &Grid<S>,
+        q: usize,
+        xg: Vector3<Real>,
+        lp: Real,
+    ) -> (
+        &[f64x4],
+        usize,
+        usize,
+        usize,
+        [(i32, [Real; 3], [Real; 3]); 3],
+    ) {
+        let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
+        let nodes = &mut self.nodes[..Grid::<S>::PADDED_LEN];
+        // The nodes held serve any stencil inside them: a particle that drifted into the next
+        // block since the last reordering often still is.
+        let inside =
+            |o: [i32; 3]| (0..3).all(|a| (0..=(S::PAD - S::N) as i32).contains(&(e[a].0 - o[a])));
+        if self.block == NONE || !inside(g.padded_origin(self.block as usize)) {
+            let b = g.bins.home[q];
+            g.halo::<G>(b as usize, nodes);
+            self.block = b;
+        }
+        let o = g.padded_origin(self.block as usize);
+        (
+            nodes,
+            (e[0].0 - o[0]) as usize,
+            (e[1].0 - o[1]) as usize,
+            (e[2].0 - o[2]) as usize,
+            e,
+        )
+    }
 }
