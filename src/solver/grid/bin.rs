@@ -307,6 +307,11 @@ impl Bins {
         s as usize
     }
 
+    /// Block coordinates of the bounding box's first block, and its extent in blocks.
+    pub fn extent(&self) -> ([i32; 3], [i32; 3]) {
+        (self.lo, self.dim)
+    }
+
     /// The particles of block `b`.
     #[inline(always)]
     pub fn particles_of(&self, b: usize) -> &[u32] {

@@ -16,6 +16,7 @@
 //! [`Transfer`] says which lanes a scatter fills, reduces and clears.
 
 pub mod bin;
+mod sweep;
 
 use super::shape::Stencil;
 use super::Real;
@@ -158,6 +159,8 @@ pub struct Grid<S: Stencil> {
     pub inv_cell: Real,
     /// The active blocks and each particle's place in them, rebuilt by [`Grid::bin`].
     pub bins: bin::Bins,
+    /// The scatter's order: slab by slab, and each block's buffer in the ring.
+    pub sweep: sweep::Sweep,
     pub padded: Padded,
     pub owned: Vec<Node>,
     /// Which padded node is which owned node, the same for every block.
@@ -181,6 +184,7 @@ impl<S: Stencil> Grid<S> {
             cell,
             inv_cell: 1.0 / cell,
             bins: bin::Bins::default(),
+            sweep: sweep::Sweep::default(),
             padded: Padded::default(),
             owned: Vec::new(),
             links: Links::new::<S>(),
@@ -225,30 +229,32 @@ impl<S: Stencil> Grid<S> {
     /// node buffers for them. `lp` is the particle half-size in grid units.
     pub fn bin(&mut self, x: &[Vector3<Real>], lp: Real) {
         self.bins.rebuild::<S>(x, self.inv_cell, lp);
-        let buffers = self.bins.occupied.len() * Self::PADDED_LEN;
+        self.sweep.build(&self.bins);
+        let buffers = self.sweep.ring_len() * Self::PADDED_LEN;
         let zero = f64x4::splat(0.0);
         self.padded.lo.resize(buffers, zero);
         self.padded.hi.resize(buffers, zero);
         self.owned.resize(self.len() * OWNED, Node::default());
     }
 
-    /// Sums the padded buffers into the owned nodes: what transfer `T` scattered. Each owned
-    /// node adds its padded copies in the order of the neighbours that hold them (box by box,
-    /// [`Links::received`]), whatever the thread count. Neighbours without particles have no
-    /// buffer and are skipped: their copies would be zeros, and adding +0 to a sum begun at +0
-    /// changes no bit.
-    pub fn reduce<T: Transfer>(&mut self) {
+    /// Sums the padded buffers into the owned nodes of slab `i` of the sweep: what transfer
+    /// `T` scattered. Each owned node adds its padded copies in the order of the neighbours
+    /// that hold them (box by box, [`Links::received`]), whatever the thread count. Neighbours
+    /// without particles have no buffer and are skipped: their copies would be zeros, and
+    /// adding +0 to a sum begun at +0 changes no bit. The slabs next to `i` must have scattered.
+    pub fn reduce<T: Transfer>(&mut self, i: usize) {
         let (padded, neighbors, links) = (&self.padded, &self.bins.neighbors, &self.links);
-        let buffer = &self.bins.buffer;
+        let sweep = &self.sweep;
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
+            .filter(|(b, _)| sweep.slab_of[*b] as usize == i)
             .for_each(|(b, own)| {
                 own.iter_mut().for_each(Node::clear::<T>);
                 for &(n, [x, y, z]) in &links.received {
                     let s = match neighbors[b][n as usize] {
                         NONE => continue,
-                        nb => buffer[nb as usize],
+                        nb => sweep.buffer(nb as usize),
                     };
                     if s == NONE {
                         continue;
@@ -309,6 +315,7 @@ impl<S: Stencil> Grid<S> {
         (self.padded.lo.capacity() + self.padded.hi.capacity()) * std::mem::size_of::<f64x4>()
             + self.owned.capacity() * std::mem::size_of::<Node>()
             + self.bins.bytes()
+            + self.sweep.bytes()
     }
 }
 
@@ -413,32 +420,50 @@ mod tests {
         let lp = 0.25;
         g.bin(&x, lp);
         let (len, pad) = (Grid::<S>::PADDED_LEN, S::PAD);
-        for (s, &b) in g.bins.occupied.clone().iter().enumerate() {
-            let b = b as usize;
-            let o = g.padded_origin(b);
-            let mine: Vec<u32> = g.bins.particles_of(b).to_vec();
-            let buf = &mut g.padded.lo[s * len..(s + 1) * len];
-            buf.iter_mut().for_each(|n| *n = f64x4::splat(0.0));
-            for p in mine {
-                let e: Vec<_> = (0..3)
-                    .map(|a| S::eval(x[p as usize][a] * 2.0, lp))
-                    .collect();
-                for i in 0..S::N {
-                    for j in 0..S::N {
-                        for k in 0..S::N {
-                            let idx = Grid::<S>::padded_index(
-                                (e[0].0 + i as i32 - o[0]) as usize,
-                                (e[1].0 + j as i32 - o[1]) as usize,
-                                (e[2].0 + k as i32 - o[2]) as usize,
-                            );
-                            let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
-                            buf[idx] += f64x4::new([w, 0.0, 0.0, 0.0]);
+        let slabs = g.sweep.slabs();
+        assert!(slabs > 3, "the sweep reuses the ring");
+        for i in 0..=slabs {
+            for (k, &b) in g
+                .sweep
+                .occupied_of(i.min(slabs - 1))
+                .to_vec()
+                .iter()
+                .enumerate()
+            {
+                if i == slabs {
+                    break;
+                }
+                let b = b as usize;
+                let s = g.sweep.ring_of(i).0 + k;
+                assert_eq!(g.sweep.buffer(b) as usize, s);
+                let o = g.padded_origin(b);
+                let mine: Vec<u32> = g.bins.particles_of(b).to_vec();
+                let buf = &mut g.padded.lo[s * len..(s + 1) * len];
+                buf.iter_mut().for_each(|n| *n = f64x4::splat(0.0));
+                for p in mine {
+                    let e: Vec<_> = (0..3)
+                        .map(|a| S::eval(x[p as usize][a] * 2.0, lp))
+                        .collect();
+                    for i in 0..S::N {
+                        for j in 0..S::N {
+                            for k in 0..S::N {
+                                let idx = Grid::<S>::padded_index(
+                                    (e[0].0 + i as i32 - o[0]) as usize,
+                                    (e[1].0 + j as i32 - o[1]) as usize,
+                                    (e[2].0 + k as i32 - o[2]) as usize,
+                                );
+                                let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
+                                buf[idx] += f64x4::new([w, 0.0, 0.0, 0.0]);
+                            }
                         }
                     }
                 }
             }
+            if i > 0 {
+                g.reduce::<Full>(i - 1);
+            }
         }
-        g.reduce::<Full>();
+        g.reduce::<Full>(slabs - 1);
         let total: Real = g.owned.iter().map(|n| n.mass()).sum();
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
         // A halo holds every owned node its block's padded buffer covers.

@@ -16,15 +16,27 @@ use wide::f64x4;
 pub const CHUNK: usize = 1024;
 
 impl<S: Stencil> Simulation<S> {
-    /// Particle → grid for transfer `T`, onto the padded buffers (timed as p2g), then reduced
-    /// onto the owned nodes (timed with the grid phase that follows).
+    /// Particle → grid for transfer `T`, slab by slab of the grid's sweep: each slab's blocks
+    /// onto their padded buffers (timed as p2g), then the owned nodes of the slab before it
+    /// reduced (timed with the grid phase).
     pub(super) fn scatter<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
-        self.p2g::<T>(lp);
-        clock.lap(&mut self.phases.p2g);
-        self.grid.reduce::<T>();
+        let slabs = self.grid.sweep.slabs();
+        for i in 0..slabs {
+            self.p2g::<T>(i, lp);
+            clock.lap(&mut self.phases.p2g);
+            if i > 0 {
+                self.grid.reduce::<T>(i - 1);
+                clock.lap(&mut self.phases.grid);
+            }
+        }
+        if slabs > 0 {
+            self.grid.reduce::<T>(slabs - 1);
+            clock.lap(&mut self.phases.grid);
+        }
     }
 
-    fn p2g<T: Transfer>(&mut self, lp: Real) {
+    /// The blocks of slab `i` that hold particles, onto their padded buffers.
+    fn p2g<T: Transfer>(&mut self, i: usize, lp: Real) {
         let mut padded = std::mem::take(&mut self.grid.padded);
         let len = Grid::<S>::PADDED_LEN;
         let p = &self.scene.particles;
@@ -32,11 +44,16 @@ impl<S: Stencil> Simulation<S> {
         let tolerance = CONTACT_TOLERANCE * half;
         let g = &self.grid;
         let inv = g.inv_cell;
-        (padded.lo.par_chunks_mut(len), padded.hi.par_chunks_mut(len))
+        let (first, count) = g.sweep.ring_of(i);
+        let ring = first * len..(first + count) * len;
+        (
+            padded.lo[ring.clone()].par_chunks_mut(len),
+            padded.hi[ring].par_chunks_mut(len),
+        )
             .into_par_iter()
-            .enumerate()
-            .for_each(|(s, (lo, hi))| {
-                let b = g.bins.occupied[s] as usize;
+            .zip(g.sweep.occupied_of(i))
+            .for_each(|((lo, hi), &b)| {
+                let b = b as usize;
                 // A `Remap` scatter zeroes the mass lane too: `Grid::reduce` then adds only
                 // momentum to the owned nodes. It leaves `hi` alone.
                 let zero = f64x4::splat(0.0);

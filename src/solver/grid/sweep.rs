@@ -1,0 +1,114 @@
+//! The order of a scatter: slab by slab along the axis with the most block layers, so that
+//! padded buffers exist for three slabs at a time, not for every block that holds particles.
+//!
+//! A slab is the layer of blocks at one coordinate of the sweep axis. Slab i's blocks scatter
+//! into a third of a ring of padded buffers, the one slab i − 3 used; once slab i has scattered,
+//! the owned nodes of slab i − 1 are reduced, which reads the buffers of slabs i − 2 to i: the
+//! only ones a block's neighbours can be in. The buffers a reduce reads were written one or two
+//! slabs before, and the ring is a fraction of the buffers of all blocks (a sixth for the
+//! paper's tube at n = 6, whose 432 blocks with particles lie in 18 layers along its axis).
+//! Each owned node still adds its copies in neighbour order, so the order of the sweep changes
+//! no bit.
+
+use super::bin::Bins;
+use super::NONE;
+
+/// Slabs of padded buffers alive at once: a reduce reads three neighbouring slabs.
+pub const RING: usize = 3;
+
+/// The slabs of the current binning, and each block's buffer in the ring.
+#[derive(Debug, Default)]
+pub struct Sweep {
+    /// Per active block: its slab.
+    pub slab_of: Vec<u32>,
+    /// The blocks that hold particles, slab by slab (block order within a slab): slab i's are
+    /// `occupied[starts[i]..starts[i + 1]]`.
+    starts: Vec<u32>,
+    occupied: Vec<u32>,
+    /// Per active block: its padded buffer's index in the ring, or `NONE` for a block without
+    /// particles.
+    buffer: Vec<u32>,
+    /// Buffers per slab of the ring: the most any slab holds.
+    width: usize,
+    /// Scratch of the sort.
+    cursor: Vec<u32>,
+}
+
+impl Sweep {
+    /// Slabs along the axis of `bins`' bounding box with the most block layers.
+    pub fn build(&mut self, bins: &Bins) {
+        let (lo, dim) = bins.extent();
+        let axis = (0..3).max_by_key(|&a| (dim[a], a)).unwrap_or(0);
+        let slabs = dim[axis].max(0) as usize;
+        self.slab_of.clear();
+        self.slab_of
+            .extend(bins.blocks.iter().map(|b| (b[axis] - lo[axis]) as u32));
+        self.starts.clear();
+        self.starts.resize(slabs + 1, 0);
+        for &b in &bins.occupied {
+            self.starts[self.slab_of[b as usize] as usize + 1] += 1;
+        }
+        for i in 0..slabs {
+            self.starts[i + 1] += self.starts[i];
+        }
+        self.width = (0..slabs)
+            .map(|i| (self.starts[i + 1] - self.starts[i]) as usize)
+            .max()
+            .unwrap_or(0);
+        self.occupied.resize(bins.occupied.len(), 0);
+        self.buffer.clear();
+        self.buffer.resize(bins.blocks.len(), NONE);
+        // Counting sort: blocks keep their order within a slab.
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.starts[..slabs]);
+        for &b in &bins.occupied {
+            let i = self.slab_of[b as usize] as usize;
+            self.occupied[self.cursor[i] as usize] = b;
+            self.cursor[i] += 1;
+        }
+        for i in 0..slabs {
+            let (first, end) = (self.starts[i] as usize, self.starts[i + 1] as usize);
+            for (k, &b) in self.occupied[first..end].iter().enumerate() {
+                self.buffer[b as usize] = ((i % RING) * self.width + k) as u32;
+            }
+        }
+    }
+
+    /// Number of slabs.
+    pub fn slabs(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
+
+    /// The blocks of slab `i` that hold particles.
+    pub fn occupied_of(&self, i: usize) -> &[u32] {
+        &self.occupied[self.starts[i] as usize..self.starts[i + 1] as usize]
+    }
+
+    /// The ring's buffers for slab `i`: the first, and how many.
+    pub fn ring_of(&self, i: usize) -> (usize, usize) {
+        (
+            (i % RING) * self.width,
+            (self.starts[i + 1] - self.starts[i]) as usize,
+        )
+    }
+
+    /// Block `b`'s padded buffer in the ring, or `NONE` if it holds no particles.
+    #[inline(always)]
+    pub fn buffer(&self, b: usize) -> u32 {
+        self.buffer[b]
+    }
+
+    /// Padded buffers the ring holds.
+    pub fn ring_len(&self) -> usize {
+        RING * self.width
+    }
+
+    pub fn bytes(&self) -> usize {
+        (self.slab_of.capacity()
+            + self.starts.capacity()
+            + self.occupied.capacity()
+            + self.buffer.capacity()
+            + self.cursor.capacity())
+            * std::mem::size_of::<u32>()
+    }
+}
