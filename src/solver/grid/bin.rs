@@ -1,7 +1,7 @@
 //! Binning: which blocks are active and which particles each holds, rebuilt every step from
 //! the particle positions (mm) in named steps: [`Bins::locate`] each particle, bound the
 //! blocks, [`Bins::mark`] every block a stencil touches, [`Bins::number`] them in table order,
-//! [`Bins::sort`] the particles by block (and give the blocks that hold any a padded buffer),
+//! [`Bins::sort`] the particles by block (and list the blocks that hold any),
 //! [`Bins::link`] each block to its neighbours.
 
 use super::super::shape::Stencil;
@@ -74,13 +74,13 @@ pub struct Bins {
     pub order: Vec<u32>,
     /// Block of each particle's cell.
     pub home: Vec<u32>,
-    /// The blocks that hold particles, in block order: only these have a padded buffer (the
-    /// buffer's index is the place in this list). A block that only receives stencils spilling
-    /// over from its neighbours has none: its padded buffer would stay zero, and on a tube's
-    /// wall a third to a half of the active blocks are such.
+    /// The blocks that hold particles, in block order: only these scatter and have cell
+    /// averages. A block that only receives stencils spilling over from its neighbours has
+    /// neither: its padded buffer would stay zero, and on a tube's wall a third to a half of the
+    /// active blocks are such.
     pub occupied: Vec<u32>,
-    /// Per active block: its place in `occupied` (which indexes its padded buffer and its cell
-    /// averages), or `u32::MAX` for a block without particles.
+    /// Per active block: its place in `occupied` (which indexes its cell averages), or
+    /// `u32::MAX` for a block without particles.
     pub buffer: Vec<u32>,
     /// Each particle's cell within its block, 0..64.
     pub cell_of: Vec<u8>,
@@ -236,7 +236,7 @@ impl Bins {
     }
 
     /// Counting sort of particles by block; within a block, in particle order. The blocks that
-    /// hold particles get padded buffers, numbered in block order.
+    /// hold particles are listed, in block order.
     fn sort(&mut self) {
         let nb = self.blocks.len();
         self.starts.clear();
@@ -298,8 +298,7 @@ impl Bins {
         }
     }
 
-    /// Block `b`'s place in `occupied`: its padded buffer and its cell averages. The block must
-    /// hold particles.
+    /// Block `b`'s place in `occupied`: its cell averages. The block must hold particles.
     #[inline(always)]
     pub fn place(&self, b: usize) -> usize {
         let s = self.buffer[b];

@@ -4,19 +4,20 @@
 //! owned nodes; only blocks whose nodes some particle's stencil touches exist, so memory follows
 //! the tube, not its bounding box, and is rebuilt from the particles every step ([`bin`]).
 //!
-//! Parallel scatter without atomics or aliasing: each block that holds particles also has a
-//! *padded* buffer covering its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds the whole
-//! stencil of every particle whose cell lies in the block (blocks that only receive spilled
-//! stencils have none: [`bin::Bins::occupied`]). Particle→grid writes only the padded buffer
-//! of the particle's block; [`Grid::reduce`] sums the padded buffers into the owned nodes in a
-//! fixed order, so results are independent of the thread count. Grid→particle reads copies of
-//! the owned nodes around a block ([`Grid::halo`]) that the gather keeps in working memory.
+//! Parallel scatter without atomics or aliasing: each block that holds particles scatters them
+//! into a *padded* buffer covering its nodes `S::PAD_LO`.. (`S::PAD` per axis), which holds
+//! the whole stencil of every particle whose cell lies in the block (blocks that only receive
+//! spilled stencils have none: [`bin::Bins::occupied`]); [`Grid::reduce`] sums the padded
+//! buffers into the owned nodes in a fixed order, so results are independent of the thread
+//! count. The scatter goes slab by slab ([`sweep`]), so the padded buffers of three slabs of
+//! blocks are alive at a time. Grid→particle reads copies of the owned nodes around a block
+//! ([`Grid::halo`]) that the gather keeps in working memory.
 //!
 //! What a node holds changes by phase of the step; [`Node`]'s accessors are named by phase and
 //! [`Transfer`] says which lanes a scatter fills, reduces and clears.
 
 pub mod bin;
-mod sweep;
+pub mod sweep;
 
 use super::shape::Stencil;
 use super::Real;
@@ -142,9 +143,8 @@ impl Gathered for Velocity {
     const LO: bool = true;
 }
 
-/// The padded buffer of every block that holds particles ([`Grid::PADDED_LEN`] nodes each, in
-/// the order of [`bin::Bins::occupied`]), as two arrays: the `lo` and the `hi` half of each
-/// [`Node`]. Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce
+/// The ring of padded buffers of the sweep's slabs ([`Grid::PADDED_LEN`] nodes each, a block's
+/// at [`sweep::Sweep::buffer`]), as two arrays: the `lo` and the `hi` half of each [`Node`]. Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce
 /// need both halves: the [`Remap`] scatter and its reduce stream half the bytes.
 #[derive(Debug, Default)]
 pub struct Padded {
