@@ -144,8 +144,9 @@ impl Gathered for Velocity {
 }
 
 /// The ring of padded buffers of the sweep's slabs ([`Grid::PADDED_LEN`] nodes each, a block's
-/// at [`sweep::Sweep::buffer`]), as two arrays: the `lo` and the `hi` half of each [`Node`]. Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce
-/// need both halves: the [`Remap`] scatter and its reduce stream half the bytes.
+/// at [`sweep::Sweep::buffer`]), as two arrays: the `lo` and the `hi` half of each [`Node`].
+/// Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce need both
+/// halves: the [`Remap`] scatter and its reduce stream half the bytes.
 #[derive(Debug, Default)]
 pub struct Padded {
     pub lo: Vec<f64x4>,

@@ -4,7 +4,7 @@
 use super::super::contact::{self, CONTACT_TOLERANCE};
 use super::super::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
 use super::super::material::to_matrix;
-use super::super::shape::Stencil;
+use super::super::shape::{Gimp, Linear, Stencil};
 use super::super::Real;
 use super::{Clock, Simulation};
 use nalgebra::{Matrix3, Vector3};
@@ -205,7 +205,14 @@ impl<S: Stencil> Simulation<S> {
 }
 
 /// Nodes per padded buffer of the widest stencil (uGIMP's 7³).
-const MAX_PADDED: usize = 343;
+const MAX_PADDED: usize = {
+    let pad = if Gimp::PAD > Linear::PAD {
+        Gimp::PAD
+    } else {
+        Linear::PAD
+    };
+    pad * pad * pad
+};
 
 /// A gather's copy of half `G` of the nodes around one block (its padded buffer's nodes), in
 /// working memory: it is filled from the owned nodes when the gather reaches a particle whose
