@@ -249,7 +249,7 @@ impl<S: Stencil> Grid<S> {
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
-            .filter(|(b, _)| sweep.slab_of[*b] as usize == i)
+            .filter(|(b, _)| sweep.slab_of(*b) == i)
             .for_each(|(b, own)| {
                 own.iter_mut().for_each(Node::clear::<T>);
                 for &(n, [x, y, z]) in &links.received {
@@ -403,6 +403,7 @@ fn overlap(e: i32, lo: i32, pad: usize) -> Option<(usize, usize, usize)> {
 mod tests {
     use super::*;
     use crate::solver::shape::{Gimp, Linear};
+    use sweep::Pass;
 
     /// Scatter mass 1 per particle with partition-of-unity weights into padded buffers, reduce:
     /// the owned nodes must hold the total mass exactly once, whatever block boundaries cut it.
@@ -423,17 +424,15 @@ mod tests {
         let (len, pad) = (Grid::<S>::PADDED_LEN, S::PAD);
         let slabs = g.sweep.slabs();
         assert!(slabs > 3, "the sweep reuses the ring");
-        for i in 0..=slabs {
-            for (k, &b) in g
-                .sweep
-                .occupied_of(i.min(slabs - 1))
-                .to_vec()
-                .iter()
-                .enumerate()
-            {
-                if i == slabs {
-                    break;
+        for pass in sweep::passes(slabs) {
+            let i = match pass {
+                Pass::Reduce(i) => {
+                    g.reduce::<Full>(i);
+                    continue;
                 }
+                Pass::Scatter(i) => i,
+            };
+            for (k, &b) in g.sweep.occupied_of(i).to_vec().iter().enumerate() {
                 let b = b as usize;
                 let s = g.sweep.ring_of(i).0 + k;
                 assert_eq!(g.sweep.buffer(b) as usize, s);
@@ -460,11 +459,7 @@ mod tests {
                     }
                 }
             }
-            if i > 0 {
-                g.reduce::<Full>(i - 1);
-            }
         }
-        g.reduce::<Full>(slabs - 1);
         let total: Real = g.owned.iter().map(|n| n.mass()).sum();
         assert!((total - x.len() as Real).abs() < 1e-9, "{total}");
         // A halo holds every owned node its block's padded buffer covers.

@@ -16,11 +16,28 @@ use super::NONE;
 /// Slabs of padded buffers alive at once: a reduce reads three neighbouring slabs.
 pub const RING: usize = 3;
 
+/// One pass of a scatter's sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pass {
+    /// Slab i's blocks that hold particles scatter into their padded buffers.
+    Scatter(usize),
+    /// Slab i's owned nodes sum the padded buffers around them.
+    Reduce(usize),
+}
+
+/// The passes of a sweep over `slabs` slabs, in order: slab i scatters, then slab i − 1 (whose
+/// neighbours have all scattered now) is reduced; the last slab is reduced at the end.
+pub fn passes(slabs: usize) -> impl Iterator<Item = Pass> {
+    (0..slabs)
+        .flat_map(|i| std::iter::once(Pass::Scatter(i)).chain(i.checked_sub(1).map(Pass::Reduce)))
+        .chain(slabs.checked_sub(1).map(Pass::Reduce))
+}
+
 /// The slabs of the current binning, and each block's buffer in the ring.
 #[derive(Debug, Default)]
 pub struct Sweep {
     /// Per active block: its slab.
-    pub slab_of: Vec<u32>,
+    slab_of: Vec<u32>,
     /// The blocks that hold particles, slab by slab (block order within a slab): slab i's are
     /// `occupied[starts[i]..starts[i + 1]]`.
     starts: Vec<u32>,
@@ -58,25 +75,27 @@ impl Sweep {
         self.occupied.resize(bins.occupied.len(), 0);
         self.buffer.clear();
         self.buffer.resize(bins.blocks.len(), NONE);
-        // Counting sort: blocks keep their order within a slab.
+        // Counting sort (blocks keep their order within a slab), placing each in the ring.
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.starts[..slabs]);
         for &b in &bins.occupied {
             let i = self.slab_of[b as usize] as usize;
+            let k = self.cursor[i] - self.starts[i];
             self.occupied[self.cursor[i] as usize] = b;
+            self.buffer[b as usize] = ((i % RING) * self.width) as u32 + k;
             self.cursor[i] += 1;
-        }
-        for i in 0..slabs {
-            let (first, end) = (self.starts[i] as usize, self.starts[i + 1] as usize);
-            for (k, &b) in self.occupied[first..end].iter().enumerate() {
-                self.buffer[b as usize] = ((i % RING) * self.width + k) as u32;
-            }
         }
     }
 
     /// Number of slabs.
     pub fn slabs(&self) -> usize {
         self.starts.len().saturating_sub(1)
+    }
+
+    /// Block `b`'s slab.
+    #[inline(always)]
+    pub fn slab_of(&self, b: usize) -> usize {
+        self.slab_of[b] as usize
     }
 
     /// The blocks of slab `i` that hold particles.
@@ -110,5 +129,48 @@ impl Sweep {
             + self.buffer.capacity()
             + self.cursor.capacity())
             * std::mem::size_of::<u32>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every slab scatters once and is reduced once, after its neighbours on both sides have
+    /// scattered and before the ring reuses their buffers (slab i + 2 takes the buffers of
+    /// slab i − 1).
+    #[test]
+    fn each_slab_is_reduced_between_its_neighbours_scatter_and_the_ring_reusing_them() {
+        use Pass::{Reduce, Scatter};
+        let got: Vec<Pass> = passes(3).collect();
+        let want = [
+            Scatter(0),
+            Scatter(1),
+            Reduce(0),
+            Scatter(2),
+            Reduce(1),
+            Reduce(2),
+        ];
+        assert_eq!(got, want);
+        for slabs in 0..8 {
+            let order: Vec<Pass> = passes(slabs).collect();
+            let at = |p: Pass| order.iter().position(|&q| q == p);
+            for i in 0..slabs {
+                let reduced = at(Reduce(i)).expect("every slab is reduced");
+                for j in i.saturating_sub(1)..(i + 2).min(slabs) {
+                    assert!(
+                        at(Scatter(j)).unwrap() < reduced,
+                        "slab {j} before {i}'s reduce"
+                    );
+                }
+                if i >= 1 && i + 2 < slabs {
+                    assert!(
+                        reduced < at(Scatter(i + 2)).unwrap(),
+                        "ring reused too soon"
+                    );
+                }
+            }
+            assert_eq!(order.len(), 2 * slabs);
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
 
 use super::super::contact::{self, CONTACT_TOLERANCE};
+use super::super::grid::sweep::{self, Pass};
 use super::super::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
 use super::super::material::to_matrix;
 use super::super::shape::{Gimp, Linear, Stencil};
@@ -20,18 +21,17 @@ impl<S: Stencil> Simulation<S> {
     /// onto their padded buffers (timed as p2g), then the owned nodes of the slab before it
     /// reduced (timed with the grid phase).
     pub(super) fn scatter<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
-        let slabs = self.grid.sweep.slabs();
-        for i in 0..slabs {
-            self.p2g::<T>(i, lp);
-            clock.lap(&mut self.phases.p2g);
-            if i > 0 {
-                self.grid.reduce::<T>(i - 1);
-                clock.lap(&mut self.phases.grid);
+        for pass in sweep::passes(self.grid.sweep.slabs()) {
+            match pass {
+                Pass::Scatter(i) => {
+                    self.p2g::<T>(i, lp);
+                    clock.lap(&mut self.phases.p2g);
+                }
+                Pass::Reduce(i) => {
+                    self.grid.reduce::<T>(i);
+                    clock.lap(&mut self.phases.grid);
+                }
             }
-        }
-        if slabs > 0 {
-            self.grid.reduce::<T>(slabs - 1);
-            clock.lap(&mut self.phases.grid);
         }
     }
 
