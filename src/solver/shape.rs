@@ -1,6 +1,16 @@
 //! Grid shape functions, one axis at a time, in grid units (position divided by the cell size).
 //! A 3D weight is the product of three 1D weights; gradients get the 1/cell factor at the caller.
 
+/// One axis of a particle's stencil: its first node `base` (grid index), and the weights `w`
+/// and weight derivatives `g` (per grid unit) of nodes `base..base + N` (entries past `N` are
+/// zero).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axis {
+    pub base: i32,
+    pub w: [f64; 3],
+    pub g: [f64; 3],
+}
+
 /// A separable shape function with `N` nodes per axis in a particle's stencil.
 pub trait Stencil: Send + Sync + 'static {
     /// Nodes per axis that may carry weight.
@@ -9,15 +19,25 @@ pub trait Stencil: Send + Sync + 'static {
     /// and nodes per edge, so that the stencil of any particle whose cell is in the block fits.
     const PAD_LO: i32;
     const PAD: usize;
-    /// For a particle at `x` (grid units) with half-size `lp` (grid units): the first node of its
-    /// stencil, the weights and the weight derivatives (per grid unit) of nodes `base..base+N`.
-    fn eval(x: f64, lp: f64) -> (i32, [f64; 3], [f64; 3]);
+    /// The stencil along one axis of a particle at `x` (grid units) with half-size `lp` (grid
+    /// units).
+    fn eval(x: f64, lp: f64) -> Axis;
 
-    /// How many of the nodes `base..base+N` of [`Stencil::eval`]'s weights `w` and
-    /// derivatives `g` carry either: the nodes past it have exactly zero of both, so a
-    /// transfer may skip them without changing a bit (their terms would add ±0).
+    /// The stencil along each axis of a particle at `x` (grid units).
     #[inline(always)]
-    fn reach(_w: &[f64; 3], _g: &[f64; 3]) -> usize {
+    fn eval3(x: [f64; 3], lp: f64) -> [Axis; 3] {
+        [
+            Self::eval(x[0], lp),
+            Self::eval(x[1], lp),
+            Self::eval(x[2], lp),
+        ]
+    }
+
+    /// How many of the nodes `base..base+N` of `axis` carry a weight or a derivative: the
+    /// nodes past it have exactly zero of both, so a transfer may skip them without changing a
+    /// bit (their terms would add ±0).
+    #[inline(always)]
+    fn reach(_axis: &Axis) -> usize {
         Self::N
     }
 }
@@ -30,10 +50,14 @@ impl Stencil for Linear {
     const PAD_LO: i32 = 0;
     const PAD: usize = 5;
     #[inline(always)]
-    fn eval(x: f64, _lp: f64) -> (i32, [f64; 3], [f64; 3]) {
+    fn eval(x: f64, _lp: f64) -> Axis {
         let base = x.floor();
         let f = x - base;
-        (base as i32, [1.0 - f, f, 0.0], [-1.0, 1.0, 0.0])
+        Axis {
+            base: base as i32,
+            w: [1.0 - f, f, 0.0],
+            g: [-1.0, 1.0, 0.0],
+        }
     }
 }
 
@@ -53,17 +77,17 @@ impl Stencil for Gimp {
     const PAD_LO: i32 = -1;
     const PAD: usize = 7;
     #[inline(always)]
-    fn eval(x: f64, lp: f64) -> (i32, [f64; 3], [f64; 3]) {
+    fn eval(x: f64, lp: f64) -> Axis {
         let base = (x - lp).floor();
         let f = x - lp - base;
         let c = (f - (1.0 - 2.0 * lp)).max(0.0);
         let h = 0.5 / lp;
         let (cq, ch) = (0.5 * c * c * h, c * h);
-        (
-            base as i32,
-            [1.0 - lp - f + cq, lp + f - 2.0 * cq, cq],
-            [ch - 1.0, 1.0 - 2.0 * ch, ch],
-        )
+        Axis {
+            base: base as i32,
+            w: [1.0 - lp - f + cq, lp + f - 2.0 * cq, cq],
+            g: [ch - 1.0, 1.0 - 2.0 * ch, ch],
+        }
     }
 
     /// Two nodes while the particle lies inside one cell (c = 0: the third weight and its
@@ -71,8 +95,8 @@ impl Stencil for Gimp {
     /// the particle sits at a random place, for a fraction 2·lp of the time (half, at the
     /// default lp of a quarter cell).
     #[inline(always)]
-    fn reach(w: &[f64; 3], g: &[f64; 3]) -> usize {
-        2 + (w[2] != 0.0 || g[2] != 0.0) as usize
+    fn reach(axis: &Axis) -> usize {
+        2 + (axis.w[2] != 0.0 || axis.g[2] != 0.0) as usize
     }
 }
 
@@ -85,7 +109,7 @@ mod tests {
     fn check<S: Stencil>(lp: f64) {
         for k in 0..1000 {
             let x = -3.0 + k as f64 * 0.00731;
-            let (base, w, g) = S::eval(x, lp);
+            let Axis { base, w, g } = S::eval(x, lp);
             let sum: f64 = w[..S::N].iter().sum();
             let gsum: f64 = g[..S::N].iter().sum();
             let first: f64 = (0..S::N).map(|i| (base + i as i32) as f64 * w[i]).sum();

@@ -127,7 +127,7 @@ impl Bins {
                     *s = 0;
                     for a in 0..3 {
                         let g = p[a] * inv;
-                        let (base, _, _) = S::eval(g, lp);
+                        let base = S::eval(g, lp).base;
                         let c = g.floor() as i32;
                         o[a] = c.div_euclid(BLOCK);
                         cell[a] = c.rem_euclid(BLOCK);

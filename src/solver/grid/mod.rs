@@ -448,11 +448,11 @@ mod tests {
                         for j in 0..S::N {
                             for k in 0..S::N {
                                 let idx = Grid::<S>::padded_index(
-                                    (e[0].0 + i as i32 - o[0]) as usize,
-                                    (e[1].0 + j as i32 - o[1]) as usize,
-                                    (e[2].0 + k as i32 - o[2]) as usize,
+                                    (e[0].base + i as i32 - o[0]) as usize,
+                                    (e[1].base + j as i32 - o[1]) as usize,
+                                    (e[2].base + k as i32 - o[2]) as usize,
                                 );
-                                let w = e[0].1[i] * e[1].1[j] * e[2].1[k];
+                                let w = e[0].w[i] * e[1].w[j] * e[2].w[k];
                                 buf[idx] += f64x4::new([w, 0.0, 0.0, 0.0]);
                             }
                         }

@@ -11,7 +11,7 @@
 //! | [`Remap`](crate::solver::grid::Remap) scatter | `momentum` (the particles' new momenta) |
 //! | remap | `velocity` (what the particles move and strain with) |
 
-use super::super::shape::Stencil;
+use super::super::shape::{Axis, Stencil};
 use super::super::Real;
 use nalgebra::Vector3;
 use std::marker::PhantomData;
@@ -66,8 +66,8 @@ impl<S: Stencil> PlaneGrid<S> {
             }
         }
         for a in 0..2 {
-            let first = S::eval(lo[a] * self.inv_cell, lp).0;
-            let last = S::eval(hi[a] * self.inv_cell, lp).0 + S::N as i32 - 1;
+            let first = S::eval(lo[a] * self.inv_cell, lp).base;
+            let last = S::eval(hi[a] * self.inv_cell, lp).base + S::N as i32 - 1;
             self.origin[a] = first;
             self.dims[a] = (last - first + 1).max(1) as usize;
         }
@@ -108,8 +108,16 @@ impl<S: Stencil> PlaneGrid<S> {
         x: &Vector3<Real>,
         lp: Real,
     ) -> ([usize; 2], [[Real; 3]; 2], [[Real; 3]; 2]) {
-        let (bx, wx, gx) = S::eval(x.x * self.inv_cell, lp);
-        let (bz, wz, gz) = S::eval(x.z * self.inv_cell, lp);
+        let Axis {
+            base: bx,
+            w: wx,
+            g: gx,
+        } = S::eval(x.x * self.inv_cell, lp);
+        let Axis {
+            base: bz,
+            w: wz,
+            g: gz,
+        } = S::eval(x.z * self.inv_cell, lp);
         debug_assert!(bx >= self.origin[0] && bz >= self.origin[1]);
         (
             [

@@ -5,7 +5,7 @@ use super::super::contact::{self, CONTACT_TOLERANCE};
 use super::super::grid::sweep::{self, Pass};
 use super::super::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
 use super::super::material::to_matrix;
-use super::super::shape::{Gimp, Linear, Stencil};
+use super::super::shape::{Axis, Gimp, Linear, Stencil};
 use super::super::Real;
 use super::{Clock, Simulation};
 use nalgebra::{Matrix3, Vector3};
@@ -64,14 +64,13 @@ impl<S: Stencil> Simulation<S> {
                 let o = g.padded_origin(b);
                 for &q in g.bins.particles_of(b) {
                     let q = q as usize;
-                    let xg = p.x[q] * inv;
-                    let (bx, wx, gx) = S::eval(xg.x, lp);
-                    let (by, wy, gy) = S::eval(xg.y, lp);
-                    let (bz, wz, gz) = S::eval(xg.z, lp);
+                    let [ax, ay, az] = S::eval3((p.x[q] * inv).into(), lp);
+                    let (wx, wy, wz) = (&ax.w, &ay.w, &az.w);
+                    let (gx, gy, gz) = (&ax.g, &ay.g, &az.g);
                     let (ox, oy, oz) = (
-                        (bx - o[0]) as usize,
-                        (by - o[1]) as usize,
-                        (bz - o[2]) as usize,
+                        (ax.base - o[0]) as usize,
+                        (ay.base - o[1]) as usize,
+                        (az.base - o[2]) as usize,
                     );
                     debug_assert!([ox, oy, oz].iter().all(|&o| o + S::N <= S::PAD));
                     let (m, v) = (p.mass[q], p.v[q]);
@@ -94,7 +93,7 @@ impl<S: Stencil> Simulation<S> {
                     let t = f64x4::new([0.0, 0.0, 0.0, touch]);
                     // Only the x and y nodes that carry weight (z rows stay whole: they are
                     // contiguous).
-                    let (nx, ny) = (S::reach(&wx, &gx), S::reach(&wy, &gy));
+                    let (nx, ny) = (S::reach(&ax), S::reach(&ay));
                     for i in 0..nx {
                         for j in 0..ny {
                             let (wxy, gxy, wgxy) = (wx[i] * wy[j], gx[i] * wy[j], wx[i] * gy[j]);
@@ -111,7 +110,7 @@ impl<S: Stencil> Simulation<S> {
                                     hi[n] = fb.mul_add(f64x4::splat(gz[k]), fa.mul_add(w, hi[n]));
                                 }
                             } else {
-                                for (n, w) in lo[row..row + S::N].iter_mut().zip(&wz) {
+                                for (n, w) in lo[row..row + S::N].iter_mut().zip(wz) {
                                     *n = m.mul_add(f64x4::splat(*w), *n);
                                 }
                             }
@@ -132,17 +131,21 @@ impl<S: Stencil> Simulation<S> {
             let mut halo = Halo::<VelocityChange>::new();
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
-                let (pad, ox, oy, oz, e) = halo.stencil(g, q, x[q] * inv, lp);
+                let Held {
+                    nodes,
+                    start,
+                    axes: [ax, ay, az],
+                } = halo.stencil(g, q, x[q] * inv, lp);
                 // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
-                let (nx, ny) = (S::reach(&e[0].1, &e[0].2), S::reach(&e[1].1, &e[1].2));
+                let (nx, ny) = (S::reach(&ax), S::reach(&ay));
                 let mut acc = f64x4::splat(0.0);
                 for i in 0..nx {
                     for j in 0..ny {
-                        let wxy = e[0].1[i] * e[1].1[j];
-                        let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
+                        let wxy = ax.w[i] * ay.w[j];
+                        let row = Grid::<S>::padded_index(start[0] + i, start[1] + j, start[2]);
                         let mut s = f64x4::splat(0.0);
                         for k in 0..S::N {
-                            s = pad[row + k].mul_add(f64x4::splat(e[2].1[k]), s);
+                            s = nodes[row + k].mul_add(f64x4::splat(az.w[k]), s);
                         }
                         acc = s.mul_add(f64x4::splat(wxy), acc);
                     }
@@ -168,22 +171,26 @@ impl<S: Stencil> Simulation<S> {
                 let mut halo = Halo::<Velocity>::new();
                 for (i, (x, grad)) in xs.iter_mut().zip(ls.iter_mut()).enumerate() {
                     let q = c * CHUNK + i;
-                    let (pad, ox, oy, oz, e) = halo.stencil(g, q, *x * inv, lp);
+                    let Held {
+                        nodes,
+                        start,
+                        axes: [ax, ay, az],
+                    } = halo.stencil(g, q, *x * inv, lp);
                     // Lanes 1..4 of `lo` are the velocity. Per (i, j) row, s = Σ v·N_z and
                     // t = Σ v·N_z′; then the velocity and the columns of L = Σ v ⊗ ∇N.
                     let zero = f64x4::splat(0.0);
                     let (mut vel, mut l0, mut l1, mut l2) = (zero, zero, zero, zero);
-                    let (nx, ny) = (S::reach(&e[0].1, &e[0].2), S::reach(&e[1].1, &e[1].2));
+                    let (nx, ny) = (S::reach(&ax), S::reach(&ay));
                     for i in 0..nx {
                         for j in 0..ny {
-                            let (wx, wy) = (e[0].1[i], e[1].1[j]);
-                            let (wxy, gxy, wgxy) = (wx * wy, e[0].2[i] * wy, wx * e[1].2[j]);
-                            let row = Grid::<S>::padded_index(ox + i, oy + j, oz);
+                            let (wx, wy) = (ax.w[i], ay.w[j]);
+                            let (wxy, gxy, wgxy) = (wx * wy, ax.g[i] * wy, wx * ay.g[j]);
+                            let row = Grid::<S>::padded_index(start[0] + i, start[1] + j, start[2]);
                             let (mut s, mut t) = (zero, zero);
                             for k in 0..S::N {
-                                let vn = pad[row + k];
-                                s = vn.mul_add(f64x4::splat(e[2].1[k]), s);
-                                t = vn.mul_add(f64x4::splat(e[2].2[k]), t);
+                                let vn = nodes[row + k];
+                                s = vn.mul_add(f64x4::splat(az.w[k]), s);
+                                t = vn.mul_add(f64x4::splat(az.g[k]), t);
                             }
                             vel = s.mul_add(f64x4::splat(wxy), vel);
                             l0 = s.mul_add(f64x4::splat(gxy), l0);
@@ -233,41 +240,41 @@ impl<G: Gathered> Halo<G> {
         }
     }
 
-    /// Padded nodes that hold particle `q`'s stencil (those around its block, or around the
-    /// block held if they hold it too), the stencil's offset in them and the per-axis weights.
+    /// Particle `q`'s stencil (`xg` its position in grid units) in padded nodes that hold it:
+    /// those around its block, or around the block held if they hold it too.
     #[inline(always)]
-    #[allow(clippy::type_complexity)]
     fn stencil<S: Stencil>(
         &mut self,
         g: &Grid<S>,
         q: usize,
         xg: Vector3<Real>,
         lp: Real,
-    ) -> (
-        &[f64x4],
-        usize,
-        usize,
-        usize,
-        [(i32, [Real; 3], [Real; 3]); 3],
-    ) {
-        let e = [S::eval(xg.x, lp), S::eval(xg.y, lp), S::eval(xg.z, lp)];
+    ) -> Held<'_> {
+        let e = S::eval3(xg.into(), lp);
         let nodes = &mut self.nodes[..Grid::<S>::PADDED_LEN];
         // The nodes held serve any stencil inside them: a particle that drifted into the next
         // block since the last reordering often still is.
-        let inside =
-            |o: [i32; 3]| (0..3).all(|a| (0..=(S::PAD - S::N) as i32).contains(&(e[a].0 - o[a])));
+        let inside = |o: [i32; 3]| {
+            (0..3).all(|a| (0..=(S::PAD - S::N) as i32).contains(&(e[a].base - o[a])))
+        };
         if self.block == NONE || !inside(g.padded_origin(self.block as usize)) {
             let b = g.bins.home[q];
             g.halo::<G>(b as usize, nodes);
             self.block = b;
         }
         let o = g.padded_origin(self.block as usize);
-        (
+        Held {
             nodes,
-            (e[0].0 - o[0]) as usize,
-            (e[1].0 - o[1]) as usize,
-            (e[2].0 - o[2]) as usize,
-            e,
-        )
+            start: [0, 1, 2].map(|a| (e[a].base - o[a]) as usize),
+            axes: e,
+        }
     }
+}
+
+/// A particle's stencil in a [`Halo`]: the padded nodes, the stencil's first node in them
+/// (per axis) and its weights per axis.
+struct Held<'a> {
+    nodes: &'a [f64x4],
+    start: [usize; 3],
+    axes: [Axis; 3],
 }
