@@ -143,10 +143,10 @@ fn same_seed_gives_identical_results_on_any_thread_count() {
 fn no_particle_crosses_a_plate() {
     let c = coarse_axial();
     let mut sim = Simulation::<Gimp>::new(Scene::from_case(&c));
-    while sim.time < 0.4 {
+    while sim.state.time < 0.4 {
         sim.step(1.0).unwrap();
-        let (top, bottom) = (sim.scene.plates[0].z, sim.scene.plates[1].z);
-        for x in &sim.scene.particles.x {
+        let (top, bottom) = (sim.state.scene.plates[0].z, sim.state.scene.plates[1].z);
+        for x in &sim.state.scene.particles.x {
             assert!(
                 x.z < top && x.z > bottom,
                 "particle at z = {} outside plates {bottom}..{top}",

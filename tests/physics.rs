@@ -45,7 +45,8 @@ fn pvc() -> Elastoplastic {
 }
 
 fn max_stress<S: Stencil>(sim: &Simulation<S>) -> f64 {
-    sim.scene
+    sim.state
+        .scene
         .particles
         .stress
         .iter()
@@ -87,8 +88,11 @@ fn rigid_translation_gives_zero_stress() {
             "{shape:?}: stress {}",
             max_stress(&sim)
         );
-        for (a, b) in x0.iter().zip(&sim.scene.particles.x) {
-            assert!((b - a - v * sim.time).norm() < 1e-9, "{shape:?}: drifted");
+        for (a, b) in x0.iter().zip(&sim.state.scene.particles.x) {
+            assert!(
+                (b - a - v * sim.state.time).norm() < 1e-9,
+                "{shape:?}: drifted"
+            );
         }
     });
 }
@@ -111,10 +115,10 @@ fn rigid_rotation_gives_no_stress() {
         }
         let start = p.x.clone();
         let mut sim = Simulation::<S>::new(scene);
-        while sim.time * omega.z < 0.2 {
+        while sim.state.time * omega.z < 0.2 {
             sim.step(1.0).unwrap();
         }
-        let p = &sim.scene.particles;
+        let p = &sim.state.scene.particles;
         let worst = p.stress.iter().map(von_mises).fold(0.0, f64::max);
         assert!(
             worst < 0.05 * 65.5,
@@ -149,7 +153,7 @@ fn elastic_wave_speed_in_a_bar() {
         let mut samples: Vec<(f64, f64)> = vec![];
         let found = loop {
             let info = sim.step(1.0).unwrap();
-            samples.push((sim.time - 0.5 * info.dt, info.kinetic));
+            samples.push((sim.state.time - 0.5 * info.dt, info.kinetic));
             let m = samples.len();
             if m >= 3 && samples[m - 1].1 > samples[m - 2].1 {
                 let ((t0, k0), (t1, k1), (t2, k2)) =
@@ -158,7 +162,7 @@ fn elastic_wave_speed_in_a_bar() {
                 let den = (t1 - t0) * (k1 - k2) - (t1 - t2) * (k1 - k0);
                 break t1 - 0.5 * num / den;
             }
-            assert!(sim.time < 2.0 * quarter, "no minimum found");
+            assert!(sim.state.time < 2.0 * quarter, "no minimum found");
         };
         let err = (found / quarter - 1.0).abs();
         assert!(err < 0.01, "{shape:?}: T/4 {found} vs {quarter} ({err:.4})");
@@ -183,13 +187,18 @@ fn momentum_is_conserved_without_plates() {
         for _ in 0..200 {
             sim.step(1.0).unwrap();
         }
-        let after = sim.scene.particles.momentum();
+        let after = sim.state.scene.particles.momentum();
         assert!(
             (after - before).norm() < 1e-10 * before.norm(),
             "{shape:?}: {before} → {after}"
         );
         assert!(
-            sim.scene.particles.plastic_strain.iter().any(|&e| e > 0.0),
+            sim.state
+                .scene
+                .particles
+                .plastic_strain
+                .iter()
+                .any(|&e| e > 0.0),
             "test should reach yield"
         );
     });
@@ -224,16 +233,16 @@ fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
         let yield_strain = 65.5 / 3378.4;
         let (mut impulse, mut span) = (0.0, 0.0);
         let mut ratios = vec![];
-        while sim.time * 0.2 < 3.0 * yield_strain * top {
+        while sim.state.time * 0.2 < 3.0 * yield_strain * top {
             let info = sim.step(1.0).unwrap();
             impulse += info.contact.impulse[0];
             span += info.dt;
-            if sim.steps.is_multiple_of(500) {
-                let p = &sim.scene.particles;
+            if sim.state.steps.is_multiple_of(500) {
+                let p = &sim.state.scene.particles;
                 assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
-                let height = sim.scene.plates[0].z - sim.scene.plates[1].z;
+                let height = sim.state.scene.plates[0].z - sim.state.scene.plates[1].z;
                 let area = p.vol.iter().sum::<f64>() / height;
-                if sim.time * 0.2 > 2.0 * yield_strain * top {
+                if sim.state.time * 0.2 > 2.0 * yield_strain * top {
                     ratios.push(impulse / span / area / 65.5);
                 }
                 impulse = 0.0;
@@ -279,6 +288,7 @@ fn a_node_obeys_the_plate_its_particles_touch_not_the_nearest() {
     assert_eq!(info.contact.impulse[0], 0.0, "{:?}", info.contact);
     assert_eq!(info.contact.work, [0.0, 0.0]);
     let fastest = sim
+        .state
         .scene
         .particles
         .v
@@ -327,8 +337,11 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
             "{shape:?}: {c:?}"
         );
         // The caught mass J/V is the top layer's share of the nodal mass: less than the block.
-        assert!(j / speed < mass(&sim.scene), "{shape:?}");
-        assert_eq!((sim.energy.work[0], sim.energy.catch), (c.work[0], c.catch));
+        assert!(j / speed < mass(&sim.state.scene), "{shape:?}");
+        assert_eq!(
+            (sim.state.energy.work[0], sim.state.energy.catch),
+            (c.work[0], c.catch)
+        );
     });
 }
 
@@ -364,12 +377,12 @@ fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
     let mut sim = Simulation::<Gimp>::new(scene);
     let (mut jn, mut kinetic) = (0.0, 0.0);
     // 0.3 ms: the block (6 particles high, c ≈ 2.5 mm/ms) rings a few times against the plate.
-    while sim.time < 0.3 {
+    while sim.state.time < 0.3 {
         let info = sim.step(1.0).unwrap();
         jn += info.contact.impulse[0];
         kinetic = info.kinetic;
     }
-    let p1 = sim.scene.particles.momentum();
+    let p1 = sim.state.scene.particles.momentum();
     assert!(jn > 0.0);
     let lost = p0.x - p1.x;
     assert!(
@@ -378,13 +391,13 @@ fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
         mu * jn
     );
     let mean_u = 0.5 * (p0.x + p1.x) / m;
-    let friction = sim.energy.friction;
+    let friction = sim.state.energy.friction;
     let expect = mu * jn * mean_u;
     assert!(
         (friction / expect - 1.0).abs() < 0.01,
         "friction {friction} vs μ·J_n·ū {expect}"
     );
-    let e = sim.energy;
+    let e = sim.state.energy;
     let booked = kinetic + e.internal + e.catch + e.friction;
     assert!(
         (booked / kinetic0 - 1.0).abs() < 0.005,

@@ -23,7 +23,7 @@ use super::contact::ContactSums;
 use super::grid::{Full, Remap};
 use super::scene::Scene;
 use super::shape::Stencil;
-use super::step::{ChunkSums, Clock, Energies, Engine, PhaseTimes, StepInfo};
+use super::step::{ChunkSums, Clock, Engine, State};
 use super::{Real, SolveError};
 use grid::PlaneGrid;
 use nalgebra::Matrix3;
@@ -74,17 +74,9 @@ struct Scratch {
 
 /// A section advancing in time with shape function `S`.
 pub struct Section<S: Stencil> {
-    pub scene: Scene,
+    pub state: State,
     symmetry: Symmetry,
     grid: PlaneGrid<S>,
-    time: Real,
-    steps: u64,
-    energy: Energies,
-    phases: PhaseTimes,
-    /// Largest c + |v| over the particles after the last step, mm/ms.
-    signal: Real,
-    /// Nodes lighter than this carry no velocity, g.
-    mass_floor: Real,
     scratch: Scratch,
 }
 
@@ -92,13 +84,6 @@ impl<S: Stencil> Section<S> {
     /// A section scene (built by `Scene::from_case` for a reduced model) under `symmetry`.
     pub fn new(scene: Scene, symmetry: Symmetry) -> Section<S> {
         let n = scene.particles.len();
-        let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
-        let vmax = scene
-            .particles
-            .v
-            .iter()
-            .map(|v| v.norm())
-            .fold(0.0, Real::max);
         let scratch = Scratch {
             gradient: vec![Matrix3::zeros(); n],
             cell_of: vec![0; n],
@@ -108,84 +93,53 @@ impl<S: Stencil> Section<S> {
         };
         Section {
             grid: PlaneGrid::new(scene.cell),
-            signal: scene.wave_speed() + vmax,
-            mass_floor: 1e-14 * mean_mass,
-            scene,
+            state: State::new(scene),
             symmetry,
-            time: 0.0,
-            steps: 0,
-            energy: Energies::default(),
-            phases: PhaseTimes::default(),
             scratch,
         }
     }
 
     /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
     fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        let lp = self.scene.half_size / self.scene.cell;
+        let lp = self.state.scene.half_size / self.state.scene.cell;
         let mut clock = Clock::start();
-        self.grid.fit(&self.scene.particles.x, lp);
-        clock.lap(&mut self.phases.bin);
+        self.grid.fit(&self.state.scene.particles.x, lp);
+        clock.lap(&mut self.state.phases.bin);
         self.scatter::<Full>(lp);
-        clock.lap(&mut self.phases.p2g);
+        clock.lap(&mut self.state.phases.p2g);
         let contact = self.grid_update(dt);
-        clock.lap(&mut self.phases.grid);
+        clock.lap(&mut self.state.phases.grid);
         self.g2p_velocity(lp);
-        clock.lap(&mut self.phases.g2p);
+        clock.lap(&mut self.state.phases.g2p);
         self.scatter::<Remap>(lp);
-        clock.lap(&mut self.phases.p2g);
+        clock.lap(&mut self.state.phases.p2g);
         self.remap();
-        clock.lap(&mut self.phases.grid);
+        clock.lap(&mut self.state.phases.grid);
         self.g2p_kinematics(lp, dt);
-        clock.lap(&mut self.phases.g2p);
+        clock.lap(&mut self.state.phases.g2p);
         let kinetic = self.update_stress(dt)?;
-        clock.lap(&mut self.phases.stress);
-        self.energy.work[0] += contact.work[0];
-        self.energy.work[1] += contact.work[1];
-        self.energy.catch += contact.catch;
-        self.energy.friction += contact.friction;
+        clock.lap(&mut self.state.phases.stress);
         Ok((contact, kinetic))
     }
 }
 
 impl<S: Stencil> Engine for Section<S> {
-    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
-        let stable_dt = self.scene.cfl * self.scene.cell / self.signal;
-        let dt = stable_dt.min(dt_cap);
-        self.scene.set_plate_velocities(self.time, dt);
-        let (contact, kinetic) = self.advance(dt)?;
-        self.scene.move_plates(dt);
-        self.time += dt;
-        self.steps += 1;
-        Ok(StepInfo {
-            dt,
-            stable_dt,
-            contact,
-            kinetic,
-        })
+    fn state(&self) -> &State {
+        &self.state
     }
-    fn scene(&self) -> &Scene {
-        &self.scene
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
     }
-    fn time(&self) -> Real {
-        self.time
-    }
-    fn steps(&self) -> u64 {
-        self.steps
-    }
-    fn energy(&self) -> &Energies {
-        &self.energy
+    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
+        Section::advance(self, dt)
     }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64
     }
-    fn phases(&self) -> &PhaseTimes {
-        &self.phases
-    }
     fn bytes(&self) -> usize {
         use std::mem::size_of;
         let s = &self.scratch;
-        self.scene.particles.bytes()
+        self.state.scene.particles.bytes()
             + self.grid.bytes()
             + s.gradient.capacity() * size_of::<Matrix3<Real>>()
             + s.cell_of.capacity() * size_of::<u32>()

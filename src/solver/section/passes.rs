@@ -67,8 +67,8 @@ impl<S: Stencil> Section<S> {
     /// the thread count.
     pub(super) fn scatter<T: Transfer>(&mut self, lp: Real) {
         let g = &self.grid;
-        let p = &self.scene.particles;
-        let (plates, half) = (&self.scene.plates, self.scene.half_size);
+        let p = &self.state.scene.particles;
+        let (plates, half) = (&self.state.scene.plates, self.state.scene.half_size);
         let tolerance = CONTACT_TOLERANCE * half;
         let hoop = self.symmetry.hoop();
         let inv = g.inv_cell;
@@ -153,12 +153,12 @@ impl<S: Stencil> Section<S> {
     /// Nodes after the full scatter: momentum → velocity, add force·dt, apply the plates
     /// (booked). Returns the contact sums.
     pub(super) fn grid_update(&mut self, dt: Real) -> ContactSums {
-        let (plates, mu) = (&self.scene.plates, self.scene.friction);
+        let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let g = &mut self.grid;
         let mut sums = ContactSums::default();
         for n in 0..g.len() {
             let m = g.mass[n];
-            if m <= self.mass_floor {
+            if m <= self.state.mass_floor {
                 g.velocity[n] = [0.0; 2];
                 g.change[n] = [0.0; 2];
                 continue;
@@ -178,11 +178,11 @@ impl<S: Stencil> Section<S> {
     /// Nodes after the remap scatter: velocity with the plates applied again (not booked: see
     /// the 3D `Simulation::remap`).
     pub(super) fn remap(&mut self) {
-        let (plates, mu) = (&self.scene.plates, self.scene.friction);
+        let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let g = &mut self.grid;
         for n in 0..g.len() {
             let m = g.mass[n];
-            if m <= self.mass_floor {
+            if m <= self.state.mass_floor {
                 g.velocity[n] = [0.0; 2];
                 continue;
             }
@@ -198,7 +198,7 @@ impl<S: Stencil> Section<S> {
     /// Grid → particle velocity, FLIP: add the interpolated velocity change.
     pub(super) fn g2p_velocity(&mut self, lp: Real) {
         let g = &self.grid;
-        let p = &mut self.scene.particles;
+        let p = &mut self.state.scene.particles;
         let x = &p.x;
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
             for (j, v) in vs.iter_mut().enumerate() {
@@ -221,7 +221,7 @@ impl<S: Stencil> Section<S> {
         let g = &self.grid;
         let hoop = self.symmetry.hoop();
         let inv = g.inv_cell;
-        let xs = &mut self.scene.particles.x;
+        let xs = &mut self.state.scene.particles.x;
         let grads = &mut self.scratch.gradient;
         (xs.par_chunks_mut(CHUNK), grads.par_chunks_mut(CHUNK))
             .into_par_iter()
@@ -263,9 +263,9 @@ impl<S: Stencil> Section<S> {
     /// bad. Returns the kinetic energy, mJ.
     pub(super) fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
         let cells = self.grid.len();
-        let books = Books::of(&self.scene, dt);
-        let material = self.scene.material;
-        let p = &mut self.scene.particles;
+        let books = Books::of(&self.state.scene, dt);
+        let material = self.state.scene.material;
+        let p = &mut self.state.scene.particles;
         let s = &mut self.scratch;
         if let Some(avg) = &mut s.averages {
             avg.clear();
@@ -345,8 +345,8 @@ impl<S: Stencil> Section<S> {
             .collect_into_vec(&mut s.chunk_sums);
         let (kinetic, signal) = close_books(
             &s.chunk_sums,
-            &mut self.energy,
-            (self.steps + 1, self.time + dt),
+            &mut self.state.energy,
+            (self.state.steps + 1, self.state.time + dt),
             |q| {
                 let x = xs[q];
                 format!(
@@ -355,7 +355,7 @@ impl<S: Stencil> Section<S> {
                 )
             },
         )?;
-        self.signal = signal;
+        self.state.signal = signal;
         Ok(kinetic)
     }
 }

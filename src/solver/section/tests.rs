@@ -27,8 +27,8 @@ fn section<S: Stencil>(model: &str) -> Section<S> {
 /// The step's transfers with a step of zero: the particles' velocities onto the grid and back
 /// as velocity gradients (in the scratch), nothing moved, no stress changed.
 fn kinematics_at_rest<S: Stencil>(sim: &mut Section<S>) {
-    let lp = sim.scene.half_size / sim.scene.cell;
-    sim.grid.fit(&sim.scene.particles.x, lp);
+    let lp = sim.state.scene.half_size / sim.state.scene.cell;
+    sim.grid.fit(&sim.state.scene.particles.x, lp);
     sim.scatter::<Full>(lp);
     sim.grid_update(0.0);
     sim.scatter::<Remap>(lp);
@@ -42,10 +42,10 @@ fn kinematics_at_rest<S: Stencil>(sim: &mut Section<S>) {
 fn check_hoop_rate<S: Stencil>() {
     let vr = 2.5;
     let mut sim = section::<S>("axisymmetric");
-    for v in &mut sim.scene.particles.v {
+    for v in &mut sim.state.scene.particles.v {
         *v = Vector3::new(vr, 0.0, 0.0);
     }
-    let before = sim.scene.particles.x.clone();
+    let before = sim.state.scene.particles.x.clone();
     kinematics_at_rest(&mut sim);
     for (l, x) in sim.scratch.gradient.iter().zip(&before) {
         let want = vr / x.x;
@@ -72,13 +72,13 @@ fn a_uniform_radial_velocity_gives_the_hoop_rate_v_over_r() {
 fn check_hoop_force<S: Stencil>(model: &str, hoop: Real) {
     let sigma = 40.0;
     let mut sim = section::<S>(model);
-    for s in &mut sim.scene.particles.stress {
+    for s in &mut sim.state.scene.particles.stress {
         *s = [0.0, sigma, 0.0, 0.0, 0.0, 0.0];
     }
-    let lp = sim.scene.half_size / sim.scene.cell;
-    sim.grid.fit(&sim.scene.particles.x, lp);
+    let lp = sim.state.scene.half_size / sim.state.scene.cell;
+    sim.grid.fit(&sim.state.scene.particles.x, lp);
     sim.scatter::<Full>(lp);
-    let p = &sim.scene.particles;
+    let p = &sim.state.scene.particles;
     let want: Real = (0..p.len())
         .map(|q| -hoop * p.vol[q] * sigma / p.x[q].x)
         .sum();
@@ -138,7 +138,14 @@ fn plane_strain_stress_along_the_tube_exerts_no_force() {
 fn plane_strain_keeps_the_axial_strain_rate_zero() {
     let mut sim = section::<Linear>("plane_strain");
     let rate = 1e-3;
-    for (v, x) in sim.scene.particles.v.iter_mut().zip(&sim.scene.particles.x) {
+    for (v, x) in sim
+        .state
+        .scene
+        .particles
+        .v
+        .iter_mut()
+        .zip(&sim.state.scene.particles.x)
+    {
         *v = Vector3::new(rate * x.x, 0.0, rate * x.z);
     }
     kinematics_at_rest(&mut sim);
@@ -149,8 +156,8 @@ fn plane_strain_keeps_the_axial_strain_rate_zero() {
         dilating += usize::from(l.trace() > 0.5 * rate);
     }
     // The in-plane field reaches the particles (all but the edge ones see 2·rate).
-    assert!(dilating > sim.scene.particles.len() / 2, "{dilating}");
-    let m = sim.scene.material;
+    assert!(dilating > sim.state.scene.particles.len() / 2, "{dilating}");
+    let m = sim.state.scene.material;
     let mut s = [0.0; 6];
     let l = Matrix3::new(rate, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, rate);
     m.update(&mut s, &l, 1.0, 1.0);

@@ -108,21 +108,105 @@ impl Clock {
     }
 }
 
-/// What the run loop and the benchmarks need of a model's time stepping: the 3D
-/// [`Simulation`] or a reduced model's [`Section`].
-pub trait Engine {
-    /// Advances one step of at most `dt_cap` ms.
-    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError>;
-    fn scene(&self) -> &Scene;
+/// What a model carries from step to step besides its grid: the scene, the clock, the energy
+/// books, and the two figures the next step needs (its signal speed and the grid's mass floor).
+#[derive(Debug)]
+pub struct State {
+    pub scene: Scene,
     /// Simulated time, ms.
-    fn time(&self) -> Real;
-    fn steps(&self) -> u64;
-    fn energy(&self) -> &Energies;
+    pub time: Real,
+    pub steps: u64,
+    pub energy: Energies,
+    pub phases: PhaseTimes,
+    /// Largest c + |v| over the particles after the last step, mm/ms.
+    pub(crate) signal: Real,
+    /// Nodes lighter than this carry no velocity (guards divisions by tiny masses), g.
+    pub(crate) mass_floor: Real,
+}
+
+impl State {
+    /// At time 0, before the first step.
+    pub fn new(scene: Scene) -> State {
+        let n = scene.particles.len();
+        let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
+        let vmax = scene
+            .particles
+            .v
+            .iter()
+            .map(|v| v.norm())
+            .fold(0.0, Real::max);
+        State {
+            signal: scene.wave_speed() + vmax,
+            mass_floor: 1e-14 * mean_mass,
+            scene,
+            time: 0.0,
+            steps: 0,
+            energy: Energies::default(),
+            phases: PhaseTimes::default(),
+        }
+    }
+
+    /// The time step the CFL condition allows now, ms.
+    pub fn stable_dt(&self) -> Real {
+        self.scene.cfl * self.scene.cell / self.signal
+    }
+}
+
+/// A model's time stepping: the 3D [`Simulation`] or a reduced model's [`Section`]. Each does
+/// the phases of a step ([`Engine::advance`]); what comes before and after them (the step's
+/// size, the plates, the clock, the contact's books) is [`Engine::step`], the same for all.
+pub trait Engine {
+    fn state(&self) -> &State;
+    fn state_mut(&mut self) -> &mut State;
+    /// The phases of one step of `dt` (ms), with the plates' velocities over it set: particles
+    /// and grid advance, the state's signal speed, internal energy and phase times are
+    /// updated. Returns the contact sums and the kinetic energy after the step. Called by
+    /// [`Engine::step`].
+    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError>;
     /// Grid cells the last step spanned.
     fn active_cells(&self) -> u64;
-    fn phases(&self) -> &PhaseTimes;
     /// Bytes held by the particles, the grid and the working memory.
     fn bytes(&self) -> usize;
+
+    /// Advances one step of at most `dt_cap` ms.
+    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
+        let state = self.state_mut();
+        let stable_dt = state.stable_dt();
+        let dt = stable_dt.min(dt_cap);
+        state.scene.set_plate_velocities(state.time, dt);
+        let (contact, kinetic) = self.advance(dt)?;
+        let state = self.state_mut();
+        let energy = &mut state.energy;
+        energy.work[0] += contact.work[0];
+        energy.work[1] += contact.work[1];
+        energy.catch += contact.catch;
+        energy.friction += contact.friction;
+        state.scene.move_plates(dt);
+        state.time += dt;
+        state.steps += 1;
+        Ok(StepInfo {
+            dt,
+            stable_dt,
+            contact,
+            kinetic,
+        })
+    }
+    fn scene(&self) -> &Scene {
+        &self.state().scene
+    }
+    /// Simulated time, ms.
+    fn time(&self) -> Real {
+        self.state().time
+    }
+    fn steps(&self) -> u64 {
+        self.state().steps
+    }
+    fn energy(&self) -> &Energies {
+        &self.state().energy
+    }
+    fn phases(&self) -> &PhaseTimes {
+        &self.state().phases
+    }
 }
 
 /// What to do with a simulation once its model and shape function are types: [`simulate`]
@@ -144,124 +228,72 @@ pub fn simulate<D: Driver>(model: Model, shape: ShapeKind, scene: Scene, driver:
 
 /// A scene advancing in time with shape function `S`.
 pub struct Simulation<S: Stencil> {
-    pub scene: Scene,
+    pub state: State,
     pub grid: Grid<S>,
-    /// Simulated time, ms.
-    pub time: Real,
-    pub steps: u64,
-    pub energy: Energies,
-    pub phases: PhaseTimes,
-    /// Largest c + |v| over the particles after the last step, mm/ms.
-    signal: Real,
-    /// Nodes lighter than this carry no velocity (guards divisions by tiny masses), g.
-    mass_floor: Real,
     pub workspace: Workspace,
 }
 
 impl<S: Stencil> Simulation<S> {
     pub fn new(scene: Scene) -> Simulation<S> {
-        let n = scene.particles.len();
-        let mean_mass = scene.particles.mass.iter().sum::<Real>() / n.max(1) as Real;
-        let c = scene.wave_speed();
-        let vmax = scene
-            .particles
-            .v
-            .iter()
-            .map(|v| v.norm())
-            .fold(0.0, Real::max);
         Simulation {
             grid: Grid::new(scene.cell),
-            workspace: Workspace::new(n, scene.average_volumetric),
-            scene,
-            time: 0.0,
-            steps: 0,
-            energy: Energies::default(),
-            phases: PhaseTimes::default(),
-            signal: c + vmax,
-            mass_floor: 1e-14 * mean_mass,
+            workspace: Workspace::new(scene.particles.len(), scene.average_volumetric),
+            state: State::new(scene),
         }
     }
 
-    /// The time step the CFL condition allows now, ms.
-    pub fn stable_dt(&self) -> Real {
-        self.scene.cfl * self.scene.cell / self.signal
-    }
-
-    /// Advances one step of at most `dt_cap` ms.
+    /// Advances one step of at most `dt_cap` ms ([`Engine::step`]).
     pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
-        let stable_dt = self.stable_dt();
-        let dt = stable_dt.min(dt_cap);
-        self.scene.set_plate_velocities(self.time, dt);
-        let (contact, kinetic) = self.advance(dt)?;
-        let info = StepInfo {
-            dt,
-            stable_dt,
-            contact,
-            kinetic,
-        };
-        self.scene.move_plates(dt);
-        self.time += dt;
-        self.steps += 1;
-        Ok(info)
+        Engine::step(self, dt_cap)
     }
 
     /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
     fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        let lp = self.scene.half_size / self.scene.cell;
+        let lp = self.state.scene.half_size / self.state.scene.cell;
         let mut clock = Clock::start();
-        self.grid.bin(&self.scene.particles.x, lp);
-        if self.steps.is_multiple_of(RESORT_EVERY) {
+        self.grid.bin(&self.state.scene.particles.x, lp);
+        if self.state.steps.is_multiple_of(RESORT_EVERY) {
             let seen = &mut self.workspace.seen;
-            self.scene.particles.permute(&self.grid.bins.order, seen);
+            self.state
+                .scene
+                .particles
+                .permute(&self.grid.bins.order, seen);
             self.grid.bins.adopt_order(seen);
         }
-        clock.lap(&mut self.phases.bin);
+        clock.lap(&mut self.state.phases.bin);
         self.scatter::<Full>(lp, &mut clock);
         let contact = self.grid_update(dt);
-        clock.lap(&mut self.phases.grid);
+        clock.lap(&mut self.state.phases.grid);
         self.g2p_velocity(lp);
-        clock.lap(&mut self.phases.g2p);
+        clock.lap(&mut self.state.phases.g2p);
         self.scatter::<Remap>(lp, &mut clock);
         self.remap();
-        clock.lap(&mut self.phases.grid);
+        clock.lap(&mut self.state.phases.grid);
         self.g2p_kinematics(lp, dt);
-        clock.lap(&mut self.phases.g2p);
+        clock.lap(&mut self.state.phases.g2p);
         let kinetic = self.update_stress(dt)?;
-        clock.lap(&mut self.phases.stress);
-        self.energy.work[0] += contact.work[0];
-        self.energy.work[1] += contact.work[1];
-        self.energy.catch += contact.catch;
-        self.energy.friction += contact.friction;
+        clock.lap(&mut self.state.phases.stress);
         Ok((contact, kinetic))
     }
 
     /// Bytes held by the particles, the grid and the workspace.
     pub fn bytes(&self) -> usize {
-        self.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
+        self.state.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
     }
 }
 
 impl<S: Stencil> Engine for Simulation<S> {
-    fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
-        Simulation::step(self, dt_cap)
+    fn state(&self) -> &State {
+        &self.state
     }
-    fn scene(&self) -> &Scene {
-        &self.scene
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
     }
-    fn time(&self) -> Real {
-        self.time
-    }
-    fn steps(&self) -> u64 {
-        self.steps
-    }
-    fn energy(&self) -> &Energies {
-        &self.energy
+    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
+        Simulation::advance(self, dt)
     }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64 * 64
-    }
-    fn phases(&self) -> &PhaseTimes {
-        &self.phases
     }
     fn bytes(&self) -> usize {
         Simulation::bytes(self)

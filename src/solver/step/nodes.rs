@@ -15,8 +15,8 @@ impl<S: Stencil> Simulation<S> {
     /// Owned nodes, after the `Full` scatter: momentum → velocity, add force·dt, apply the
     /// plates. Returns the contact sums.
     pub(super) fn grid_update(&mut self, dt: Real) -> ContactSums {
-        let (plates, mu) = (&self.scene.plates, self.scene.friction);
-        let floor = self.mass_floor;
+        let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
+        let floor = self.state.mass_floor;
         let block_sums = &mut self.workspace.block_sums;
         block_sums.resize(self.grid.len(), ContactSums::default());
         self.grid
@@ -52,8 +52,8 @@ impl<S: Stencil> Simulation<S> {
     /// their momentum (so neither the kinetic energy nor the load); what approaches a plate in
     /// them is caught, and booked, in the next step's grid update.
     pub(super) fn remap(&mut self) {
-        let (plates, mu) = (&self.scene.plates, self.scene.friction);
-        let floor = self.mass_floor;
+        let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
+        let floor = self.state.mass_floor;
         self.grid.owned.par_chunks_mut(OWNED).for_each(|own| {
             for n in own.iter_mut() {
                 let m = n.mass();

@@ -185,12 +185,12 @@ impl<S: Stencil> Simulation<S> {
         let work = &mut self.workspace;
         let bins = &self.grid.bins;
         let averages = work.averages.as_mut().map(|a| {
-            a.compute(bins, &self.scene.particles, &work.velocity_gradient);
+            a.compute(bins, &self.state.scene.particles, &work.velocity_gradient);
             &*a
         });
-        let material = self.scene.material;
-        let books = Books::of(&self.scene, dt);
-        let p = &mut self.scene.particles;
+        let material = self.state.scene.material;
+        let books = Books::of(&self.state.scene, dt);
+        let p = &mut self.state.scene.particles;
         let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
         let grads = &work.velocity_gradient;
         (
@@ -255,18 +255,18 @@ impl<S: Stencil> Simulation<S> {
                 sums
             })
             .collect_into_vec(&mut work.chunk_sums);
-        let x = &self.scene.particles.x;
-        let id = &self.scene.particles.id;
+        let x = &self.state.scene.particles.x;
+        let id = &self.state.scene.particles.id;
         let (kinetic, signal) = close_books(
             &work.chunk_sums,
-            &mut self.energy,
-            (self.steps + 1, self.time + dt),
+            &mut self.state.energy,
+            (self.state.steps + 1, self.state.time + dt),
             |q| {
                 let (x, id) = (x[q], id[q]);
                 format!("particle {id} at ({:.4}, {:.4}, {:.4}) mm", x.x, x.y, x.z)
             },
         )?;
-        self.signal = signal;
+        self.state.signal = signal;
         Ok(kinetic)
     }
 }

@@ -25,11 +25,11 @@ impl<S: Stencil> Simulation<S> {
             match pass {
                 Pass::Scatter(i) => {
                     self.p2g::<T>(i, lp);
-                    clock.lap(&mut self.phases.p2g);
+                    clock.lap(&mut self.state.phases.p2g);
                 }
                 Pass::Reduce(i) => {
                     self.grid.reduce::<T>(i);
-                    clock.lap(&mut self.phases.grid);
+                    clock.lap(&mut self.state.phases.grid);
                 }
             }
         }
@@ -39,8 +39,8 @@ impl<S: Stencil> Simulation<S> {
     fn p2g<T: Transfer>(&mut self, i: usize, lp: Real) {
         let mut padded = std::mem::take(&mut self.grid.padded);
         let len = Grid::<S>::PADDED_LEN;
-        let p = &self.scene.particles;
-        let (plates, half) = (&self.scene.plates, self.scene.half_size);
+        let p = &self.state.scene.particles;
+        let (plates, half) = (&self.state.scene.plates, self.state.scene.half_size);
         let tolerance = CONTACT_TOLERANCE * half;
         let g = &self.grid;
         let inv = g.inv_cell;
@@ -125,7 +125,7 @@ impl<S: Stencil> Simulation<S> {
     pub(super) fn g2p_velocity(&mut self, lp: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
-        let p = &mut self.scene.particles;
+        let p = &mut self.state.scene.particles;
         let x = &p.x;
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
             let mut halo = Halo::<VelocityChange>::new();
@@ -162,7 +162,7 @@ impl<S: Stencil> Simulation<S> {
     pub(super) fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
-        let xs = &mut self.scene.particles.x;
+        let xs = &mut self.state.scene.particles.x;
         let grads = &mut self.workspace.velocity_gradient;
         (xs.par_chunks_mut(CHUNK), grads.par_chunks_mut(CHUNK))
             .into_par_iter()
