@@ -7,7 +7,7 @@
 use super::super::contact::{self, ContactSums, CONTACT_TOLERANCE};
 use super::super::grid::Transfer;
 use super::super::shape::Stencil;
-use super::super::step::{close_books, Books, ChunkSums, Updated};
+use super::super::step::{close_books, update_particles, Books};
 use super::super::{Real, SolveError};
 use super::grid::PlaneGrid;
 use super::Section;
@@ -282,67 +282,26 @@ impl<S: Stencil> Section<S> {
             }
         }
         let (grads, cell_of, averages) = (&s.gradient, &s.cell_of, &s.averages);
-        let (mass, scale_of, xs, vs, ids) = (&p.mass, &p.yield_scale, &p.x, &p.v, &p.id);
-        (
-            p.stress.par_chunks_mut(CHUNK),
-            p.vol.par_chunks_mut(CHUNK),
-            p.plastic_strain.par_chunks_mut(CHUNK),
-        )
-            .into_par_iter()
-            .enumerate()
-            .map(|(c, (ss, vols, eps))| {
-                let mut sums = ChunkSums::default();
-                for first in (0..ss.len()).step_by(4) {
-                    let lanes = 4.min(ss.len() - first);
-                    // Per particle: the gradient and stress with the cell averages; then four
-                    // updates at once (short groups padded with zero lanes, which stay zero).
-                    let (mut ls, mut sa, mut scales) =
-                        ([Matrix3::zeros(); 4], [[0.0; 6]; 4], [1.0; 4]);
-                    for j in 0..lanes {
-                        let q = c * CHUNK + first + j;
-                        let (l, st) = (&mut ls[j], &mut sa[j]);
-                        *l = grads[q];
-                        *st = ss[first + j];
-                        if let Some(avg) = averages {
-                            let [_, dilation, pressure] = avg[cell_of[q] as usize];
-                            let shift = (dilation - l.trace()) / 3.0;
-                            for a in 0..3 {
-                                l[(a, a)] += shift;
-                            }
-                            let dp = pressure - (st[0] + st[1] + st[2]) / 3.0;
-                            for c in st.iter_mut().take(3) {
-                                *c += dp;
-                            }
-                        }
-                        scales[j] = scale_of.get(q).copied().unwrap_or(1.0);
-                    }
-                    let inc = material.update_four(&mut sa, &ls, dt, scales);
-                    for j in 0..lanes {
-                        let (i, q, l) = (first + j, c * CHUNK + first + j, &ls[j]);
-                        ss[i] = sa[j];
-                        let before = vols[i];
-                        // det(I + L·dt) of the section's gradient [[a, 0, b], [0, c, 0],
-                        // [d, 0, e]]: the hoop factor times the in-plane determinant.
-                        let (a, e) = (1.0 + l[(0, 0)] * dt, 1.0 + l[(2, 2)] * dt);
-                        let hoop = 1.0 + l[(1, 1)] * dt;
-                        vols[i] *= hoop * (a * e - l[(0, 2)] * l[(2, 0)] * dt * dt);
-                        eps[i] += inc[j].plastic_strain;
-                        let updated = Updated {
-                            q,
-                            increment: inc[j],
-                            yield_scale: scales[j],
-                            volume: (before, vols[i]),
-                            mass: mass[q],
-                            x: &xs[q],
-                            v: &vs[q],
-                            stress: &ss[i],
-                        };
-                        sums.book(&books, updated);
-                    }
-                }
-                sums
-            })
-            .collect_into_vec(&mut s.chunk_sums);
+        update_particles(
+            p,
+            (&material, &books),
+            (CHUNK, &mut s.chunk_sums),
+            |q| {
+                let cell = averages.as_ref().map(|a| a[cell_of[q] as usize]);
+                (
+                    grads[q],
+                    cell.map(|[_, dilation, pressure]| (dilation, pressure)),
+                )
+            },
+            // det(I + L·dt) of the section's gradient [[a, 0, b], [0, c, 0], [d, 0, e]]: the
+            // hoop factor times the in-plane determinant.
+            |l| {
+                let (a, e) = (1.0 + l[(0, 0)] * dt, 1.0 + l[(2, 2)] * dt);
+                let hoop = 1.0 + l[(1, 1)] * dt;
+                hoop * (a * e - l[(0, 2)] * l[(2, 0)] * dt * dt)
+            },
+        );
+        let (xs, ids) = (&p.x, &p.id);
         let (kinetic, signal) = close_books(
             &s.chunk_sums,
             &mut self.state.energy,

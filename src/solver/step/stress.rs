@@ -4,7 +4,7 @@
 //! pressure are first averaged per grid cell ([`VolumetricAverages`]).
 
 use super::super::grid::bin::Bins;
-use super::super::material::{Increment, Sym};
+use super::super::material::{Elastoplastic, Increment, Sym};
 use super::super::particles::Particles;
 use super::super::scene::Scene;
 use super::super::shape::Stencil;
@@ -177,6 +177,81 @@ pub(crate) fn close_books(
     Ok((kinetic, signal))
 }
 
+/// The stress update of every particle `p`, four at a time, in parallel chunks of `chunk`
+/// particles whose sums go to `sums`, for the 3D simulation and the sections alike. `gradient(q)` is particle `q`'s
+/// velocity gradient (1/ms) and, with volumetric averaging, its cell's mean dilation rate
+/// (1/ms) and pressure (MPa), which replace the particle's own; `volume_factor(L)` is the
+/// model's det(I + L·dt), the ratio of a particle's volume after the step to before it.
+pub(crate) fn update_particles(
+    p: &mut Particles,
+    (material, books): (&Elastoplastic, &Books),
+    (chunk, sums): (usize, &mut Vec<ChunkSums>),
+    gradient: impl Fn(usize) -> (Matrix3<Real>, Option<(Real, Real)>) + Sync,
+    volume_factor: impl Fn(&Matrix3<Real>) -> Real + Sync,
+) {
+    let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
+    (
+        p.stress.par_chunks_mut(chunk),
+        p.vol.par_chunks_mut(chunk),
+        p.plastic_strain.par_chunks_mut(chunk),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, (ss, vols, eps))| {
+            let mut sums = ChunkSums::default();
+            for first in (0..ss.len()).step_by(LANES) {
+                let lanes = LANES.min(ss.len() - first);
+                // Per particle: the velocity gradient and stress with the cell averages. Short
+                // groups are padded with zero lanes (zero stress and gradient, which the update
+                // leaves at zero).
+                let mut ls = [Matrix3::zeros(); LANES];
+                let mut sa = [[0.0; 6]; LANES];
+                let mut scales = [1.0; LANES];
+                for j in 0..lanes {
+                    let (i, q) = (first + j, c * chunk + first + j);
+                    let (mut l, averages) = gradient(q);
+                    let mut s = ss[i];
+                    if let Some((dilation, pressure)) = averages {
+                        let shift = (dilation - l.trace()) / 3.0;
+                        l[(0, 0)] += shift;
+                        l[(1, 1)] += shift;
+                        l[(2, 2)] += shift;
+                        let dp = pressure - (s[0] + s[1] + s[2]) / 3.0;
+                        s[0] += dp;
+                        s[1] += dp;
+                        s[2] += dp;
+                    }
+                    (ls[j], sa[j]) = (l, s);
+                    scales[j] = yield_scale.get(q).copied().unwrap_or(1.0);
+                }
+                // Four stress updates at once, one per lane.
+                let inc = material.update_four(&mut sa, &ls, books.dt, scales);
+                // Per particle again, in order: volume, books, checks. (These four at once too
+                // measured slower: the gathers cost more than the lanes saved.)
+                for j in 0..lanes {
+                    let (i, q, l) = (first + j, c * chunk + first + j, &ls[j]);
+                    ss[i] = sa[j];
+                    let before = vols[i];
+                    vols[i] *= volume_factor(l);
+                    eps[i] += inc[j].plastic_strain;
+                    let updated = Updated {
+                        q,
+                        increment: inc[j],
+                        yield_scale: scales[j],
+                        volume: (before, vols[i]),
+                        mass: mass[q],
+                        x: &xs[q],
+                        v: &vs[q],
+                        stress: &ss[i],
+                    };
+                    sums.book(books, updated);
+                }
+            }
+            sums
+        })
+        .collect_into_vec(sums);
+}
+
 impl<S: Stencil> Simulation<S> {
     /// Stress, volume and energy update from the velocity gradients of `g2p_kinematics`, with
     /// the cell-averaged dilation and pressure when the scene asks for them. Finds the next
@@ -188,73 +263,16 @@ impl<S: Stencil> Simulation<S> {
             a.compute(bins, &self.state.scene.particles, &work.velocity_gradient);
             &*a
         });
-        let material = self.state.scene.material;
         let books = Books::of(&self.state.scene, dt);
-        let p = &mut self.state.scene.particles;
-        let (mass, yield_scale, xs, vs) = (&p.mass, &p.yield_scale, &p.x, &p.v);
+        let material = self.state.scene.material;
         let grads = &work.velocity_gradient;
-        (
-            p.stress.par_chunks_mut(CHUNK),
-            p.vol.par_chunks_mut(CHUNK),
-            p.plastic_strain.par_chunks_mut(CHUNK),
-        )
-            .into_par_iter()
-            .enumerate()
-            .map(|(c, (ss, vols, eps))| {
-                let mut sums = ChunkSums::default();
-                for first in (0..ss.len()).step_by(LANES) {
-                    let lanes = LANES.min(ss.len() - first);
-                    // Per particle: the velocity gradient and stress with the cell averages.
-                    let mut ls = [Matrix3::zeros(); LANES];
-                    let mut scales = [1.0; LANES];
-                    for (j, l) in ls.iter_mut().enumerate().take(lanes) {
-                        let (i, q) = (first + j, c * CHUNK + first + j);
-                        *l = grads[q].cast();
-                        if let Some(averages) = averages {
-                            let (dilation, pressure) = averages.of(bins, q);
-                            let shift = (dilation - l.trace()) / 3.0;
-                            l[(0, 0)] += shift;
-                            l[(1, 1)] += shift;
-                            l[(2, 2)] += shift;
-                            let s = &mut ss[i];
-                            let dp = pressure - (s[0] + s[1] + s[2]) / 3.0;
-                            s[0] += dp;
-                            s[1] += dp;
-                            s[2] += dp;
-                        }
-                        if !yield_scale.is_empty() {
-                            scales[j] = yield_scale[q];
-                        }
-                    }
-                    // Four stress updates at once, one per lane (unused lanes stay at zero
-                    // stress and gradient, which the update leaves at zero).
-                    let mut sa = [[0.0; 6]; LANES];
-                    sa[..lanes].copy_from_slice(&ss[first..first + lanes]);
-                    let inc = material.update_four(&mut sa, &ls, dt, scales);
-                    // Per particle again, in order: volume, books, checks. (These four at
-                    // once too measured slower: the gathers cost more than the lanes saved.)
-                    for j in 0..lanes {
-                        let (i, q, l) = (first + j, c * CHUNK + first + j, &ls[j]);
-                        ss[i] = sa[j];
-                        let before = vols[i];
-                        vols[i] *= (Matrix3::identity() + l * dt).determinant();
-                        eps[i] += inc[j].plastic_strain;
-                        let updated = Updated {
-                            q,
-                            increment: inc[j],
-                            yield_scale: scales[j],
-                            volume: (before, vols[i]),
-                            mass: mass[q],
-                            x: &xs[q],
-                            v: &vs[q],
-                            stress: &ss[i],
-                        };
-                        sums.book(&books, updated);
-                    }
-                }
-                sums
-            })
-            .collect_into_vec(&mut work.chunk_sums);
+        update_particles(
+            &mut self.state.scene.particles,
+            (&material, &books),
+            (CHUNK, &mut work.chunk_sums),
+            |q| (grads[q].cast(), averages.map(|a| a.of(bins, q))),
+            |l| (Matrix3::identity() + l * dt).determinant(),
+        );
         let x = &self.state.scene.particles.x;
         let id = &self.state.scene.particles.id;
         let (kinetic, signal) = close_books(
