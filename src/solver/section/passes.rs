@@ -7,7 +7,7 @@
 use super::super::contact::{self, ContactSums, CONTACT_TOLERANCE};
 use super::super::grid::Transfer;
 use super::super::shape::Stencil;
-use super::super::step::{close_books, update_particles, Books};
+use super::super::step::{close_books, update_particles, Books, Deformation};
 use super::super::{Real, SolveError};
 use super::grid::PlaneGrid;
 use super::Section;
@@ -281,26 +281,12 @@ impl<S: Stencil> Section<S> {
                 a[2] /= a[0];
             }
         }
-        let (grads, cell_of, averages) = (&s.gradient, &s.cell_of, &s.averages);
-        update_particles(
-            p,
-            (&material, &books),
-            (CHUNK, &mut s.chunk_sums),
-            |q| {
-                let cell = averages.as_ref().map(|a| a[cell_of[q] as usize]);
-                (
-                    grads[q],
-                    cell.map(|[_, dilation, pressure]| (dilation, pressure)),
-                )
-            },
-            // det(I + L·dt) of the section's gradient [[a, 0, b], [0, c, 0], [d, 0, e]]: the
-            // hoop factor times the in-plane determinant.
-            |l| {
-                let (a, e) = (1.0 + l[(0, 0)] * dt, 1.0 + l[(2, 2)] * dt);
-                let hoop = 1.0 + l[(1, 1)] * dt;
-                hoop * (a * e - l[(0, 2)] * l[(2, 0)] * dt * dt)
-            },
-        );
+        let plane = Plane {
+            grads: &s.gradient,
+            cell_of: &s.cell_of,
+            averages: s.averages.as_deref(),
+        };
+        update_particles(p, (&material, &books), (CHUNK, &mut s.chunk_sums), &plane);
         let (xs, ids) = (&p.x, &p.id);
         let (kinetic, signal) = close_books(
             &s.chunk_sums,
@@ -316,5 +302,31 @@ impl<S: Stencil> Section<S> {
         )?;
         self.state.signal = signal;
         Ok(kinetic)
+    }
+}
+
+/// A section's [`Deformation`]: gradients in the 3D layout, averages per grid cell.
+struct Plane<'a> {
+    grads: &'a [Matrix3<Real>],
+    cell_of: &'a [u32],
+    averages: Option<&'a [[Real; 3]]>,
+}
+
+impl Deformation for Plane<'_> {
+    #[inline(always)]
+    fn gradient(&self, q: usize) -> (Matrix3<Real>, Option<(Real, Real)>) {
+        let cell = self.averages.map(|a| a[self.cell_of[q] as usize]);
+        (
+            self.grads[q],
+            cell.map(|[_, dilation, pressure]| (dilation, pressure)),
+        )
+    }
+    /// det(I + L·dt) of the section's gradient [[a, 0, b], [0, c, 0], [d, 0, e]]: the hoop
+    /// factor times the in-plane determinant.
+    #[inline(always)]
+    fn volume_factor(&self, l: &Matrix3<Real>, dt: Real) -> Real {
+        let (a, e) = (1.0 + l[(0, 0)] * dt, 1.0 + l[(2, 2)] * dt);
+        let hoop = 1.0 + l[(1, 1)] * dt;
+        hoop * (a * e - l[(0, 2)] * l[(2, 0)] * dt * dt)
     }
 }

@@ -35,7 +35,7 @@ use super::scene::Scene;
 use super::section::{Section, Symmetry};
 use super::shape::{Gimp, Linear, Stencil};
 use super::{Real, SolveError};
-pub(crate) use stress::{close_books, update_particles, Books, ChunkSums};
+pub(crate) use stress::{close_books, update_particles, Books, ChunkSums, Deformation};
 pub use workspace::Workspace;
 
 /// Every this many steps the particles are reordered block by block, so that the particles a
