@@ -265,7 +265,11 @@ impl<G: Gathered> Halo<G> {
         let o = g.padded_origin(self.block as usize);
         Held {
             nodes,
-            start: [0, 1, 2].map(|a| (e[a].base - o[a]) as usize),
+            start: [
+                (e[0].base - o[0]) as usize,
+                (e[1].base - o[1]) as usize,
+                (e[2].base - o[2]) as usize,
+            ],
             axes: e,
         }
     }
