@@ -18,8 +18,10 @@
 //! exactly so with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
 //! The shape function is a type, `S`: [`simulate`] turns the case's choice into it once.
-//! What a node holds in each phase is in [`Node`]'s table. The simulation's state is the scene,
-//! the clock and the energy books; everything recomputed within a step is in [`Workspace`].
+//! What a node holds in each phase is in [`Node`]'s table. What a model carries from step to
+//! step is its [`State`] (the scene, the clock, the energy books); everything recomputed within
+//! a step is in [`Workspace`]. [`Engine::step`] wraps any model's phases ([`Engine::advance`])
+//! in what every step does before and after them.
 
 mod nodes;
 mod stress;
