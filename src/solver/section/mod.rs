@@ -98,8 +98,16 @@ impl<S: Stencil> Section<S> {
             scratch,
         }
     }
+}
 
-    /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
+impl<S: Stencil> Engine for Section<S> {
+    fn state(&self) -> &State {
+        &self.state
+    }
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
+    }
+    /// The phases in the order of the module doc.
     fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
         let lp = self.state.scene.half_size / self.state.scene.cell;
         let mut clock = Clock::start();
@@ -120,18 +128,6 @@ impl<S: Stencil> Section<S> {
         let kinetic = self.update_stress(dt)?;
         clock.lap(&mut self.state.phases.stress);
         Ok((contact, kinetic))
-    }
-}
-
-impl<S: Stencil> Engine for Section<S> {
-    fn state(&self) -> &State {
-        &self.state
-    }
-    fn state_mut(&mut self) -> &mut State {
-        &mut self.state
-    }
-    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        Section::advance(self, dt)
     }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64

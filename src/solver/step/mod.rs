@@ -248,8 +248,16 @@ impl<S: Stencil> Simulation<S> {
     pub fn step(&mut self, dt_cap: Real) -> Result<StepInfo, SolveError> {
         Engine::step(self, dt_cap)
     }
+}
 
-    /// The phases of one step of `dt`; returns the contact sums and the kinetic energy after it.
+impl<S: Stencil> Engine for Simulation<S> {
+    fn state(&self) -> &State {
+        &self.state
+    }
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
+    }
+    /// The phases in the order of the module doc.
     fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
         let lp = self.state.scene.half_size / self.state.scene.cell;
         let mut clock = Clock::start();
@@ -277,27 +285,10 @@ impl<S: Stencil> Simulation<S> {
         clock.lap(&mut self.state.phases.stress);
         Ok((contact, kinetic))
     }
-
-    /// Bytes held by the particles, the grid and the workspace.
-    pub fn bytes(&self) -> usize {
-        self.state.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
-    }
-}
-
-impl<S: Stencil> Engine for Simulation<S> {
-    fn state(&self) -> &State {
-        &self.state
-    }
-    fn state_mut(&mut self) -> &mut State {
-        &mut self.state
-    }
-    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        Simulation::advance(self, dt)
-    }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64 * 64
     }
     fn bytes(&self) -> usize {
-        Simulation::bytes(self)
+        self.state.scene.particles.bytes() + self.grid.bytes() + self.workspace.bytes()
     }
 }
