@@ -11,13 +11,22 @@
 //! | [`Remap`](crate::solver::grid::Remap) scatter | `momentum` (the particles' new momenta) |
 //! | remap | `velocity` (what the particles move and strain with) |
 
-use super::super::shape::{Axis, Stencil};
+use super::super::shape::Stencil;
 use super::super::Real;
 use nalgebra::Vector3;
 use std::marker::PhantomData;
 
 /// An (x, z) pair: the section's in-plane components.
 pub type Pair = [Real; 2];
+
+/// A particle's stencil in a [`PlaneGrid`]: its first node as offsets from the grid's origin
+/// (x, z), and the weights and their derivatives (per grid unit) along x and along z.
+#[derive(Debug, Clone, Copy)]
+pub struct PlaneStencil {
+    pub start: [usize; 2],
+    pub w: [[Real; 3]; 2],
+    pub g: [[Real; 3]; 2],
+}
 
 /// The nodes of one step, shape function `S`.
 #[derive(Debug, Default)]
@@ -100,33 +109,20 @@ impl<S: Stencil> PlaneGrid<S> {
         i * self.dims[1] + k
     }
 
-    /// A particle at `x` (mm): its stencil's first node as offsets from the origin, and the
-    /// weights and their derivatives (per grid unit) along x and along z.
+    /// A particle at `x` (mm): its stencil in this grid.
     #[inline(always)]
-    pub fn stencil(
-        &self,
-        x: &Vector3<Real>,
-        lp: Real,
-    ) -> ([usize; 2], [[Real; 3]; 2], [[Real; 3]; 2]) {
-        let Axis {
-            base: bx,
-            w: wx,
-            g: gx,
-        } = S::eval(x.x * self.inv_cell, lp);
-        let Axis {
-            base: bz,
-            w: wz,
-            g: gz,
-        } = S::eval(x.z * self.inv_cell, lp);
-        debug_assert!(bx >= self.origin[0] && bz >= self.origin[1]);
-        (
-            [
-                (bx - self.origin[0]) as usize,
-                (bz - self.origin[1]) as usize,
+    pub fn stencil(&self, x: &Vector3<Real>, lp: Real) -> PlaneStencil {
+        let ax = S::eval(x.x * self.inv_cell, lp);
+        let az = S::eval(x.z * self.inv_cell, lp);
+        debug_assert!(ax.base >= self.origin[0] && az.base >= self.origin[1]);
+        PlaneStencil {
+            start: [
+                (ax.base - self.origin[0]) as usize,
+                (az.base - self.origin[1]) as usize,
             ],
-            [wx, wz],
-            [gx, gz],
-        )
+            w: [ax.w, az.w],
+            g: [ax.g, az.g],
+        }
     }
 
     /// Bytes held (capacity).

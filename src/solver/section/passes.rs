@@ -9,7 +9,7 @@ use super::super::grid::Transfer;
 use super::super::shape::Stencil;
 use super::super::step::{close_books, update_particles, Books, Deformation};
 use super::super::{Real, SolveError};
-use super::grid::PlaneGrid;
+use super::grid::{PlaneGrid, PlaneStencil};
 use super::Section;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -38,7 +38,7 @@ impl Patch {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
-        let (first, last) = (g.stencil(&lo, lp).0, g.stencil(&hi, lp).0);
+        let (first, last) = (g.stencil(&lo, lp).start, g.stencil(&hi, lp).start);
         self.origin = first;
         self.dims = [last[0] + S::N - first[0], last[1] + S::N - first[1]];
         self.nodes.clear();
@@ -86,7 +86,7 @@ impl<S: Stencil> Section<S> {
                 patch.fit(g, &p.x[run.clone()], lp);
                 for (j, q) in run.enumerate() {
                     let x = &p.x[q];
-                    let (o, w, d) = g.stencil(x, lp);
+                    let PlaneStencil { start: o, w, g: d } = g.stencil(x, lp);
                     let o = [o[0] - patch.origin[0], o[1] - patch.origin[1]];
                     let (m, v) = (p.mass[q], p.v[q]);
                     if !T::FULL {
@@ -202,7 +202,7 @@ impl<S: Stencil> Section<S> {
         let x = &p.x;
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
             for (j, v) in vs.iter_mut().enumerate() {
-                let (o, w, _) = g.stencil(&x[c * CHUNK + j], lp);
+                let PlaneStencil { start: o, w, .. } = g.stencil(&x[c * CHUNK + j], lp);
                 for i in 0..S::N {
                     for k in 0..S::N {
                         let dv = g.change[g.index(o[0] + i, o[1] + k)];
@@ -227,7 +227,7 @@ impl<S: Stencil> Section<S> {
             .into_par_iter()
             .for_each(|(xs, ls)| {
                 for (x, l) in xs.iter_mut().zip(ls.iter_mut()) {
-                    let (o, w, d) = g.stencil(x, lp);
+                    let PlaneStencil { start: o, w, g: d } = g.stencil(x, lp);
                     let (mut vel, mut grad) = ([0.0; 2], [[0.0; 2]; 2]);
                     for i in 0..S::N {
                         for k in 0..S::N {

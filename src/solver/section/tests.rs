@@ -3,6 +3,7 @@
 use super::*;
 use crate::solver::case::{Case, Limits};
 use crate::solver::shape::{Gimp, Linear};
+use grid::PlaneStencil;
 use nalgebra::Vector3;
 
 fn section<S: Stencil>(model: &str) -> Section<S> {
@@ -102,7 +103,7 @@ fn check_hoop_force<S: Stencil>(model: &str, hoop: Real) {
         let node = node.unwrap();
         let mut expect = 0.0;
         for q in 0..p.len() {
-            let (o, w, _) = sim.grid.stencil(&p.x[q], lp);
+            let PlaneStencil { start: o, w, .. } = sim.grid.stencil(&p.x[q], lp);
             for i in 0..S::N {
                 for k in 0..S::N {
                     if sim.grid.index(o[0] + i, o[1] + k) == node {
