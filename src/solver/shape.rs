@@ -33,6 +33,9 @@ pub trait Stencil: Send + Sync + 'static {
         ]
     }
 
+    /// Whether [`Stencil::reach`] can be less than `N`.
+    const REACH_VARIES: bool = false;
+
     /// How many of the nodes `base..base+N` of `axis` carry a weight or a derivative: the
     /// nodes past it have exactly zero of both, so a transfer may skip them without changing a
     /// bit (their terms would add ±0).
@@ -76,6 +79,7 @@ impl Stencil for Gimp {
     const N: usize = 3;
     const PAD_LO: i32 = -1;
     const PAD: usize = 7;
+    const REACH_VARIES: bool = true;
     #[inline(always)]
     fn eval(x: f64, lp: f64) -> Axis {
         let base = (x - lp).floor();

@@ -2,7 +2,8 @@
 //! the particle positions (mm) in named steps: [`Bins::locate`] each particle, bound the
 //! blocks, [`Bins::mark`] every block a stencil touches, [`Bins::number`] them in table order,
 //! [`Bins::sort`] the particles by block (and list the blocks that hold any),
-//! [`Bins::link`] each block to its neighbours.
+//! [`Bins::link`] each block to its neighbours. Before the particles are reordered,
+//! [`Bins::order_by_reach`] groups each block's particles by the shape of their stencils.
 
 use super::super::shape::Stencil;
 use super::super::Real;
@@ -11,6 +12,13 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 const MARK: u32 = u32::MAX - 1;
+
+/// log2 of [`BLOCK`].
+const SHIFT: u32 = BLOCK.trailing_zeros();
+const _: () = assert!(1 << SHIFT == BLOCK);
+
+/// Reach classes of a stencil on the x and y axes ([`Bins::order_by_reach`]).
+const REACH_CLASSES: usize = 4;
 
 /// Per stencil spill bits (bit a: below on axis a, bit a + 3: above): the neighbour blocks the
 /// stencil touches, as bits by [`neighbor_index`] (the block itself, 13, always).
@@ -123,22 +131,20 @@ impl Bins {
             .into_par_iter()
             .for_each(|(own, cell_of, spill, x)| {
                 for (((o, c), s), p) in own.iter_mut().zip(cell_of).zip(spill).zip(x) {
-                    let mut cell = [0; 3];
-                    *s = 0;
+                    // Shifts and masks, not `div_euclid`: the same values for a block of
+                    // 2^SHIFT cells, without a branch on the sign of the remainder.
+                    let (mut cell, mut spill) = ([0; 3], 0);
                     for a in 0..3 {
                         let g = p[a] * inv;
                         let base = S::eval(g, lp).base;
                         let c = g.floor() as i32;
-                        o[a] = c.div_euclid(BLOCK);
-                        cell[a] = c.rem_euclid(BLOCK);
-                        if base.div_euclid(BLOCK) < o[a] {
-                            *s |= 1 << a;
-                        }
-                        if (base + S::N as i32 - 1).div_euclid(BLOCK) > o[a] {
-                            *s |= 1 << (a + 3);
-                        }
+                        o[a] = c >> SHIFT;
+                        cell[a] = c & (BLOCK - 1);
+                        spill |= (((base >> SHIFT) < o[a]) as u8) << a;
+                        spill |= ((((base + S::N as i32 - 1) >> SHIFT) > o[a]) as u8) << (a + 3);
                     }
-                    *c = ((cell[0] * 4 + cell[1]) * 4 + cell[2]) as u8;
+                    *s = spill;
+                    *c = ((cell[0] * BLOCK + cell[1]) * BLOCK + cell[2]) as u8;
                 }
             });
     }
@@ -288,6 +294,40 @@ impl Bins {
         self.neighbors = neighbors;
     }
 
+    /// Refines `order` so that within each block the particles come by reach class on x and
+    /// y (class bit 0: the stencil reaches all `S::N` nodes on x, [`Stencil::reach`]; bit 1:
+    /// on y), and within a class in particle order. The transfers' loops over x and y nodes
+    /// then take the same branches for runs of particles; they are called once per
+    /// re-sort, and particles rarely change class between re-sorts. Blocks and `starts` are
+    /// unchanged. Does nothing for a stencil whose reach never varies. `x` are the positions
+    /// (mm), `inv` the inverse cell size (1/mm), `lp` the half-size in grid units.
+    pub fn order_by_reach<S: Stencil>(&mut self, x: &[Vector3<Real>], inv: Real, lp: Real) {
+        if !S::REACH_VARIES {
+            return;
+        }
+        let class = |q: usize| {
+            let full = |a: usize| (S::reach(&S::eval(x[q][a] * inv, lp)) == S::N) as usize;
+            full(0) | full(1) << 1
+        };
+        let key = |q: usize| self.home[q] as usize * REACH_CLASSES + class(q);
+        let keys = self.blocks.len() * REACH_CLASSES;
+        let cursor = &mut self.cursor;
+        cursor.clear();
+        cursor.resize(keys + 1, 0);
+        for q in 0..x.len() {
+            cursor[key(q) + 1] += 1;
+        }
+        for k in 0..keys {
+            cursor[k + 1] += cursor[k];
+        }
+        debug_assert!((0..=self.blocks.len()).all(|b| cursor[b * REACH_CLASSES] == self.starts[b]));
+        for q in 0..x.len() {
+            let c = &mut cursor[key(q)];
+            self.order[*c as usize] = q as u32;
+            *c += 1;
+        }
+    }
+
     /// After the particles were reordered by `order` (`Particles::permute`): carries the
     /// per-particle binning along, so that block b's particles are now `starts[b]..starts[b+1]`.
     pub fn adopt_order(&mut self, seen: &mut Vec<bool>) {
@@ -349,7 +389,99 @@ impl Bins {
 
 #[cfg(test)]
 mod tests {
+    use super::super::super::shape::{Gimp, Linear};
     use super::*;
+
+    /// Positions (mm) scattered over a few blocks on both sides of 0, from a fixed sequence.
+    fn scattered(n: usize) -> Vec<Vector3<Real>> {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / (1u64 << 53) as Real * 20.0 - 10.0
+        };
+        (0..n)
+            .map(|_| Vector3::new(next(), next(), next()))
+            .collect()
+    }
+
+    /// The shifts and masks of `locate` give the blocks, cells and spill bits that Euclidean
+    /// division gives, negative coordinates included.
+    fn locate_agrees_with_euclidean_division<S: Stencil>() {
+        let (inv, lp) = (1.3, 0.25);
+        let x = scattered(2000);
+        let mut bins = Bins::default();
+        bins.locate::<S>(&x, inv, lp);
+        for (q, p) in x.iter().enumerate() {
+            let (mut cell, mut spill) = ([0; 3], 0);
+            for a in 0..3 {
+                let c = (p[a] * inv).floor() as i32;
+                let base = S::eval(p[a] * inv, lp).base;
+                assert_eq!(bins.own[q][a], c.div_euclid(BLOCK), "particle {q} axis {a}");
+                cell[a] = c.rem_euclid(BLOCK);
+                spill |= ((base.div_euclid(BLOCK) < bins.own[q][a]) as u8) << a;
+                let last = (base + S::N as i32 - 1).div_euclid(BLOCK);
+                spill |= ((last > bins.own[q][a]) as u8) << (a + 3);
+            }
+            assert_eq!(bins.spill[q], spill, "particle {q}");
+            let c = (cell[0] * BLOCK + cell[1]) * BLOCK + cell[2];
+            assert_eq!(bins.cell_of[q] as i32, c, "particle {q}");
+        }
+    }
+
+    #[test]
+    fn locate_agrees_with_euclidean_division_linear() {
+        locate_agrees_with_euclidean_division::<Linear>();
+    }
+
+    #[test]
+    fn locate_agrees_with_euclidean_division_gimp() {
+        locate_agrees_with_euclidean_division::<Gimp>();
+    }
+
+    /// uGIMP: each block keeps its particles, now by reach class on x and y, and by index
+    /// within a class. Linear: nothing moves.
+    #[test]
+    fn order_by_reach_groups_each_block_by_class() {
+        let (inv, lp) = (1.3, 0.25);
+        let x = scattered(3000);
+        let class = |q: u32| {
+            let full = |a: usize| Gimp::reach(&Gimp::eval(x[q as usize][a] * inv, lp)) == 3;
+            full(0) as u8 | (full(1) as u8) << 1
+        };
+        let mut bins = Bins::default();
+        bins.rebuild::<Gimp>(&x, inv, lp);
+        let (starts, before) = (bins.starts.clone(), bins.order.clone());
+        bins.order_by_reach::<Gimp>(&x, inv, lp);
+        assert_eq!(bins.starts, starts);
+        let mut classes_seen = [false; 4];
+        for b in 0..bins.blocks.len() {
+            let (s, e) = (starts[b] as usize, starts[b + 1] as usize);
+            let mut mine = bins.order[s..e].to_vec();
+            for pair in mine.windows(2) {
+                let (one, next) = ((class(pair[0]), pair[0]), (class(pair[1]), pair[1]));
+                assert!(
+                    one < next,
+                    "block {b}: (class, index) {one:?} before {next:?}"
+                );
+            }
+            mine.iter()
+                .for_each(|&q| classes_seen[class(q) as usize] = true);
+            mine.sort_unstable();
+            assert_eq!(mine, before[s..e], "block {b} lost or gained particles");
+        }
+        assert_eq!(
+            classes_seen, [true; 4],
+            "the positions should cover every class"
+        );
+
+        let mut bins = Bins::default();
+        bins.rebuild::<Linear>(&x, inv, lp);
+        let before = bins.order.clone();
+        bins.order_by_reach::<Linear>(&x, inv, lp);
+        assert_eq!(bins.order, before);
+    }
 
     /// The neighbours a stencil touches are the box of its spill bits, the block itself always.
     #[test]

@@ -1,7 +1,7 @@
 //! One explicit MUSL step, a function per phase (units: mm, ms, g, N, MPa, mJ):
 //!
 //! 1. [`Grid::bin`]: particles into blocks (every `RESORT_EVERY` steps they are reordered by
-//!    block too);
+//!    block too, and within a block by their stencils' reach);
 //! 2. scatter [`Full`] (`transfer.rs`): mass, momentum, internal force and plate touch, reduced
 //!    onto the owned nodes;
 //! 3. the grid update with the plates (`nodes.rs`): velocity and velocity change per node;
@@ -43,7 +43,12 @@ pub use workspace::Workspace;
 /// Every this many steps the particles are reordered block by block, so that the particles a
 /// block scatters are neighbours in memory too (measured: without it the time per
 /// particle-step grew by half from 110 k to 520 k particles). Particles move a small fraction
-/// of a block in this many steps.
+/// of a block in this many steps. Within a block they are ordered by their stencils' reach
+/// ([`Bins::order_by_reach`](super::grid::bin::Bins::order_by_reach)), and by index within a
+/// reach: a transfer's loops then take the same branches for runs of particles (measured on the
+/// paper's case, n = 6, uGIMP: the whole run 1.14× as fast). The index order matters too: the
+/// particles are built layer by layer, round the tube and through the wall, so neighbours in
+/// memory sit alike in their cells (an arbitrary order within the blocks was 20 % slower).
 const RESORT_EVERY: u64 = 100;
 
 /// Energy integrals since the start, mJ. What the plates put in (`work`) goes to kinetic energy,
@@ -263,6 +268,8 @@ impl<S: Stencil> Engine for Simulation<S> {
         let mut clock = Clock::start();
         self.grid.bin(&self.state.scene.particles.x, lp);
         if self.state.steps.is_multiple_of(RESORT_EVERY) {
+            let (x, inv) = (&self.state.scene.particles.x, self.grid.inv_cell);
+            self.grid.bins.order_by_reach::<S>(x, inv, lp);
             let seen = &mut self.workspace.seen;
             self.state
                 .scene
