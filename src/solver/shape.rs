@@ -126,6 +126,23 @@ mod tests {
         }
     }
 
+    /// `REACH_VARIES` says what `reach` does: over positions across a cell, does the reach
+    /// take more than one value?
+    fn reach_varies_as_declared<S: Stencil>() {
+        let reaches: Vec<usize> = (0..1000)
+            .map(|k| S::reach(&S::eval(k as f64 * 0.00731, 0.25)))
+            .collect();
+        let varies = reaches.iter().any(|&r| r != reaches[0]);
+        assert_eq!(varies, S::REACH_VARIES);
+        assert!(reaches.iter().all(|&r| (2..=S::N).contains(&r)));
+    }
+
+    #[test]
+    fn reach_varies_only_where_declared() {
+        reach_varies_as_declared::<Linear>();
+        reach_varies_as_declared::<Gimp>();
+    }
+
     #[test]
     fn linear_is_a_partition_of_unity_and_linearly_complete() {
         check::<Linear>(0.25);

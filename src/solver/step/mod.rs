@@ -46,7 +46,7 @@ pub use workspace::Workspace;
 /// of a block in this many steps. Within a block they are ordered by their stencils' reach
 /// ([`Bins::order_by_reach`](super::grid::bin::Bins::order_by_reach)), and by index within a
 /// reach: a transfer's loops then take the same branches for runs of particles (measured on the
-/// paper's case, n = 6, uGIMP: the whole run 1.14× as fast). The index order matters too: the
+/// paper's case, n = 6, uGIMP: the whole run 1.15× as fast). The index order matters too: the
 /// particles are built layer by layer, round the tube and through the wall, so neighbours in
 /// memory sit alike in their cells (an arbitrary order within the blocks was 20 % slower).
 const RESORT_EVERY: u64 = 100;
