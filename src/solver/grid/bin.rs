@@ -63,6 +63,32 @@ fn mark_around(table: &mut [u32], dim: [i32; 3], home: usize, set: u32) {
     }
 }
 
+/// Stable counting sort of the particles `0..n` by `key` (each below `keys`): `order` lists
+/// them by key, and by index within a key. Leaves `cursor[k]` at the end of key k's run in
+/// `order` (the start of key k + 1's).
+fn counting_sort(
+    n: usize,
+    keys: usize,
+    key: impl Fn(usize) -> usize,
+    cursor: &mut Vec<u32>,
+    order: &mut Vec<u32>,
+) {
+    cursor.clear();
+    cursor.resize(keys + 1, 0);
+    for p in 0..n {
+        cursor[key(p) + 1] += 1;
+    }
+    for k in 0..keys {
+        cursor[k + 1] += cursor[k];
+    }
+    order.resize(n, 0);
+    for p in 0..n {
+        let c = &mut cursor[key(p)];
+        order[*c as usize] = p as u32;
+        *c += 1;
+    }
+}
+
 /// Index in a dense table of origin `lo` and extent `dim` (blocks) of block `b`.
 #[inline(always)]
 fn slot(lo: [i32; 3], dim: [i32; 3], b: [i32; 3]) -> usize {
@@ -245,22 +271,17 @@ impl Bins {
     /// hold particles are listed, in block order.
     fn sort(&mut self) {
         let nb = self.blocks.len();
+        let home = &self.home;
+        counting_sort(
+            home.len(),
+            nb,
+            |p| home[p] as usize,
+            &mut self.cursor,
+            &mut self.order,
+        );
         self.starts.clear();
-        self.starts.resize(nb + 1, 0);
-        for &h in &self.home {
-            self.starts[h as usize + 1] += 1;
-        }
-        for b in 0..nb {
-            self.starts[b + 1] += self.starts[b];
-        }
-        self.cursor.clear();
-        self.cursor.extend_from_slice(&self.starts[..nb]);
-        self.order.resize(self.home.len(), 0);
-        for (p, &h) in self.home.iter().enumerate() {
-            let c = &mut self.cursor[h as usize];
-            self.order[*c as usize] = p as u32;
-            *c += 1;
-        }
+        self.starts.push(0);
+        self.starts.extend_from_slice(&self.cursor[..nb]);
         self.occupied.clear();
         self.buffer.clear();
         for b in 0..nb {
@@ -311,23 +332,12 @@ impl Bins {
             let full = |a: usize| (S::reach(&S::eval(x[q][a] * inv, lp)) == S::N) as usize;
             full(0) | full(1) << 1
         };
-        let key = |q: usize| self.home[q] as usize * REACH_CLASSES + class(q);
+        let home = &self.home;
+        let key = |q: usize| home[q] as usize * REACH_CLASSES + class(q);
         let keys = self.blocks.len() * REACH_CLASSES;
-        let cursor = &mut self.cursor;
-        cursor.clear();
-        cursor.resize(keys + 1, 0);
-        for q in 0..x.len() {
-            cursor[key(q) + 1] += 1;
-        }
-        for k in 0..keys {
-            cursor[k + 1] += cursor[k];
-        }
-        debug_assert!((0..=self.blocks.len()).all(|b| cursor[b * REACH_CLASSES] == self.starts[b]));
-        for q in 0..x.len() {
-            let c = &mut cursor[key(q)];
-            self.order[*c as usize] = q as u32;
-            *c += 1;
-        }
+        counting_sort(x.len(), keys, key, &mut self.cursor, &mut self.order);
+        debug_assert!((0..self.blocks.len())
+            .all(|b| self.cursor[b * REACH_CLASSES + REACH_CLASSES - 1] == self.starts[b + 1]));
     }
 
     /// After the particles were reordered by `order` (`Particles::permute`): carries the

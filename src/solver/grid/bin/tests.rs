@@ -42,12 +42,8 @@ fn locate_agrees_with_euclidean_division<S: Stencil>() {
 }
 
 #[test]
-fn locate_agrees_with_euclidean_division_linear() {
+fn locate_agrees_with_euclidean_division_for_both_shapes() {
     locate_agrees_with_euclidean_division::<Linear>();
-}
-
-#[test]
-fn locate_agrees_with_euclidean_division_gimp() {
     locate_agrees_with_euclidean_division::<Gimp>();
 }
 
