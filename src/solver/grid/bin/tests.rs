@@ -54,7 +54,7 @@ fn order_by_reach_groups_each_block_by_class() {
     let (inv, lp) = (1.3, 0.25);
     let x = scattered(3000);
     let class = |q: u32| {
-        let full = |a: usize| Gimp::reach(&Gimp::eval(x[q as usize][a] * inv, lp)) == 3;
+        let full = |a: usize| Gimp::reach(&Gimp::eval(x[q as usize][a] * inv, lp)) == Gimp::N;
         full(0) as u8 | (full(1) as u8) << 1
     };
     let mut bins = Bins::default();
