@@ -347,3 +347,84 @@ fn compose_starts_postgres_and_three_named_nodes_behind_one_port() {
     assert_eq!(names.len(), 3, "three crush nodes with names of their own");
     assert_eq!(published, 1, "one port for the page");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_node_killed_at_80_percent_hands_its_job_to_another_that_resumes_it_with_the_same_bits() {
+    let db = fresh_postgres_database();
+    let flags = |name: &'static str, jobs: &'static str| {
+        vec![
+            "--node-name",
+            name,
+            "--heartbeat-ms",
+            "200",
+            "--stale-after-s",
+            "1",
+            "--checkpoint-every-s",
+            "0.25",
+            "--concurrent-jobs",
+            jobs,
+        ]
+    };
+    let client = client();
+    let case = resumable_case();
+    // `two` starts only once `one` is killed: the job runs on `one` first.
+    let mut one = Child::start(&db, &flags("one", "1"));
+    let id = submit_to(&client, &one.url, &case).await;
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let job = get_json(&client, &format!("{}/v1/jobs/{id}", one.url)).await;
+        assert_eq!(
+            job["status"].as_str().map(|s| s == "succeeded"),
+            Some(false),
+            "{job}"
+        );
+        if job["checkpoint"]["fraction"].as_f64().unwrap_or(0.0) >= 0.75 {
+            assert_eq!(job["node"], "one");
+            break;
+        }
+        assert!(Instant::now() < deadline, "no checkpoint: {job}");
+        tokio::time::sleep(Duration::from_millis(25)).await;
+    }
+    unsafe { libc::kill(one.pid(), libc::SIGKILL) };
+    one.exited_within(Duration::from_secs(5)).expect("killed");
+    let two = Child::logged(&db, &flags("two", "1"), "info");
+    let job = wait_for(
+        &client,
+        &two.url,
+        &id,
+        &["succeeded"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(
+        (job["node"].as_str(), job["attempts"].as_i64()),
+        (Some("two"), Some(2))
+    );
+    assert!(two.logged_line("resuming from the checkpoint"));
+
+    let csv = |id: String| {
+        let (client, url) = (client.clone(), two.url.clone());
+        async move {
+            let r = client
+                .get(format!("{url}/v1/jobs/{id}/history?format=csv"))
+                .send()
+                .await
+                .unwrap();
+            r.text().await.unwrap()
+        }
+    };
+    let whole = submit_to(&client, &two.url, &case).await;
+    wait_for(
+        &client,
+        &two.url,
+        &whole,
+        &["succeeded"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(csv(id).await, csv(whole).await);
+}

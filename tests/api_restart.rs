@@ -102,3 +102,214 @@ async fn sigterm_requeues_the_running_job_and_does_not_hang_on_event_streams() {
     assert_eq!(job["attempts"], 1);
     assert!(job["progress"].is_null());
 }
+
+/// Flags of a server that notices a lost worker within a second and checkpoints four times a
+/// second.
+const RESUMING: [&str; 6] = [
+    "--heartbeat-ms",
+    "200",
+    "--stale-after-s",
+    "1",
+    "--checkpoint-every-s",
+    "0.25",
+];
+
+/// Polls the job until it has a checkpoint at `at_least` of the crush or beyond; panics if it
+/// ends first.
+async fn wait_for_checkpoint(client: &reqwest::Client, base: &str, id: &str, at_least: f64) {
+    let deadline = std::time::Instant::now() + Duration::from_secs(120);
+    loop {
+        let job = get_json(client, &format!("{base}/v1/jobs/{id}")).await;
+        let status = job["status"].as_str().unwrap_or("");
+        assert!(
+            ["queued", "running"].contains(&status),
+            "the job ended before a checkpoint: {job}"
+        );
+        if job["checkpoint"]["fraction"].as_f64().unwrap_or(0.0) >= at_least {
+            return;
+        }
+        assert!(std::time::Instant::now() < deadline, "no checkpoint: {job}");
+        tokio::time::sleep(Duration::from_millis(25)).await;
+    }
+}
+
+/// The job's history as CSV text: the shortest text of each stored f64, so equal text means
+/// equal bits.
+async fn history_csv(client: &reqwest::Client, base: &str, id: &str) -> String {
+    let r = client
+        .get(format!("{base}/v1/jobs/{id}/history?format=csv"))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    r.text().await.unwrap()
+}
+
+/// Submits `case` to `base` again and returns the history of that run, which nothing stops.
+async fn uninterrupted(client: &reqwest::Client, base: &str, case: &serde_json::Value) -> String {
+    let id = submit_to(client, base, case).await;
+    wait_for(client, base, &id, &["succeeded"], Duration::from_secs(180)).await;
+    history_csv(client, base, &id).await
+}
+
+/// The summary's physics: everything but the wall-time figures.
+fn physics(job: &serde_json::Value) -> serde_json::Value {
+    let mut s = job["summary"].clone();
+    let cost = s["cost"].as_object_mut().unwrap();
+    for k in ["wall_time_s", "particle_steps_per_s", "threads"] {
+        cost.remove(k);
+    }
+    s
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_server_killed_at_80_percent_resumes_the_job_from_its_checkpoint_with_the_same_bits() {
+    let (_dir, db) = temp_db();
+    let client = client();
+    let case = resumable_case();
+    let mut first = Child::start(&db, &RESUMING);
+    let id = submit_to(&client, &first.url, &case).await;
+    wait_for_checkpoint(&client, &first.url, &id, 0.75).await;
+    first.process.kill().unwrap(); // SIGKILL
+    first.process.wait().unwrap();
+
+    let second = Child::logged(&db, &RESUMING, "info");
+    let job = wait_for(
+        &client,
+        &second.url,
+        &id,
+        &["succeeded", "failed"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(job["attempts"], 2, "{job}");
+    assert!(
+        job["checkpoint"].is_null(),
+        "a finished job keeps no checkpoint: {job}"
+    );
+    assert!(second.logged_line("resuming from the checkpoint"));
+    let resumed = history_csv(&client, &second.url, &id).await;
+    let whole = uninterrupted(&client, &second.url, &case).await;
+    assert_eq!(
+        resumed, whole,
+        "the resumed run's history differs from an uninterrupted run's"
+    );
+    let rows = resumed.lines().count() - 1;
+    assert_eq!(rows, 200);
+    // The summaries agree too, and the final states byte for byte.
+    let list = get_json(&client, &format!("{}/v1/jobs?status=succeeded", second.url)).await;
+    let other = list["jobs"][0]["id"].as_str().unwrap().to_string();
+    assert_ne!(other, id);
+    let (a, b) = (
+        second_job(&client, &second.url, &id).await,
+        second_job(&client, &second.url, &other).await,
+    );
+    assert_eq!(physics(&a), physics(&b));
+    let state = |job: String| {
+        let client = client.clone();
+        let url = format!("{}/v1/jobs/{job}/state.vtu", second.url);
+        async move { client.get(url).send().await.unwrap().bytes().await.unwrap() }
+    };
+    assert_eq!(state(id.clone()).await, state(other).await);
+}
+
+async fn second_job(client: &reqwest::Client, base: &str, id: &str) -> serde_json::Value {
+    get_json(client, &format!("{base}/v1/jobs/{id}")).await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn three_operator_restarts_during_one_job_resume_it_and_do_not_use_up_its_attempts() {
+    let (_dir, db) = temp_db();
+    let client = client();
+    let case = resumable_case();
+    // Two attempts allowed: three restarts would fail a job that started over each time.
+    let flags = [
+        &RESUMING[..],
+        &["--shutdown-grace-s", "0.05", "--max-attempts", "2"],
+    ]
+    .concat();
+    let mut id: Option<String> = None;
+    for (restart, at_least) in [0.2, 0.4, 0.6].into_iter().enumerate() {
+        let mut server = Child::start(&db, &flags);
+        let job = match &id {
+            None => submit_to(&client, &server.url, &case).await,
+            Some(id) => id.clone(),
+        };
+        wait_for_checkpoint(&client, &server.url, &job, at_least).await;
+        // SAFETY: sending a signal to our own child process.
+        assert_eq!(unsafe { libc::kill(server.pid(), libc::SIGTERM) }, 0);
+        let exit = server
+            .exited_within(Duration::from_secs(30))
+            .expect("the server stops");
+        assert!(exit.success(), "restart {restart}: {exit:?}");
+        id = Some(job);
+    }
+    let id = id.unwrap();
+    let server = Child::start(&db, &flags);
+    let job = wait_for(
+        &client,
+        &server.url,
+        &id,
+        &["succeeded", "failed"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(job["attempts"], 4, "{job}");
+    let resumed = history_csv(&client, &server.url, &id).await;
+    assert_eq!(resumed, uninterrupted(&client, &server.url, &case).await);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_checkpoint_is_discarded_with_a_log_line_and_the_run_starts_over() {
+    let (_dir, db) = temp_db();
+    let client = client();
+    let case = resumable_case();
+    let flags = [&RESUMING[..], &["--shutdown-grace-s", "0.05"]].concat();
+    let mut server = Child::start(&db, &flags);
+    let id = submit_to(&client, &server.url, &case).await;
+    wait_for_checkpoint(&client, &server.url, &id, 0.3).await;
+    // SAFETY: sending a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(server.pid(), libc::SIGTERM) }, 0);
+    server
+        .exited_within(Duration::from_secs(30))
+        .expect("the server stops");
+
+    // One bit of the stored checkpoint flipped, as a bad disk or a bad copy would.
+    sqlx::any::install_default_drivers();
+    let pool = sqlx::AnyPool::connect(&db).await.unwrap();
+    let (data,): (Vec<u8>,) = sqlx::query_as("SELECT data FROM checkpoints WHERE job_id = $1")
+        .bind(&id)
+        .fetch_one(&pool)
+        .await
+        .unwrap();
+    let mut damaged = data.clone();
+    let mid = damaged.len() / 2;
+    damaged[mid] ^= 0x10;
+    sqlx::query("UPDATE checkpoints SET data = $1 WHERE job_id = $2")
+        .bind(damaged)
+        .bind(&id)
+        .execute(&pool)
+        .await
+        .unwrap();
+    pool.close().await;
+
+    let server = Child::logged(&db, &flags, "warn");
+    let job = wait_for(
+        &client,
+        &server.url,
+        &id,
+        &["succeeded", "failed"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert!(
+        server.logged_line("checkpoint discarded") && server.logged_line("checksum"),
+        "the log says why: {:?}",
+        server.log.lock().unwrap()
+    );
+    let history = history_csv(&client, &server.url, &id).await;
+    assert_eq!(history, uninterrupted(&client, &server.url, &case).await);
+}

@@ -297,7 +297,11 @@ async fn a_database_file_deleted_while_serving_is_noticed_logged_and_answered_wi
         std::thread::spawn(move || for _ in lines {});
         line.rsplit(' ').next().unwrap().trim().to_string()
     };
-    let server = Child { process, url };
+    let server = Child {
+        process,
+        url,
+        log: Default::default(),
+    };
     let client = client();
     assert_eq!(
         submit(&client, &server.url, &tiny_case()).await.status(),

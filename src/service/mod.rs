@@ -2,6 +2,7 @@
 //! worker pool, the progress hub and SSE. `crush serve` calls [`serve`]; tests call [`start`].
 
 mod bare_errors;
+mod checkpointing;
 mod cluster;
 mod error;
 mod form;
@@ -82,6 +83,13 @@ pub struct ServeArgs {
     /// Interval of keep-alive comments on event streams, s.
     #[arg(long, env = "CRUSH_SSE_KEEP_ALIVE_S", default_value_t = 15.0)]
     pub sse_keep_alive_s: f64,
+    /// A running job stores a checkpoint this often, s (0: never); a requeued job resumes from
+    /// its last one on any node. A shutdown stores one before it requeues.
+    #[arg(long, env = "CRUSH_CHECKPOINT_EVERY_S", default_value_t = 60.0)]
+    pub checkpoint_every_s: f64,
+    /// Largest checkpoint stored, MB (about 116 bytes a particle): a larger job stores none.
+    #[arg(long, env = "CRUSH_CHECKPOINT_MAX_MB", default_value_t = 256)]
+    pub checkpoint_max_mb: u64,
 }
 
 impl ServeArgs {
@@ -192,6 +200,14 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         max_attempts: args.max_attempts,
         poll: Duration::from_millis(500),
         node: args.node_name.clone().unwrap_or_else(default_node_name),
+        checkpoints: checkpointing::Policy {
+            every: if args.checkpoint_every_s == 0.0 {
+                None
+            } else {
+                Some(args.seconds("--checkpoint-every-s", args.checkpoint_every_s)?)
+            },
+            max_bytes: args.checkpoint_max_mb.saturating_mul(1_000_000),
+        },
     };
     let workers = Workers::new(store.clone(), hub.clone(), config, shutdown_rx.clone());
     let limits = HttpLimits {

@@ -40,6 +40,16 @@ pub struct JobLinks {
     pub state: String,
 }
 
+/// Where a job's checkpoint stands.
+#[derive(Debug, Serialize)]
+pub struct CheckpointView {
+    /// Solver steps done.
+    pub step: i64,
+    /// Share of the crush distance done, 0..1.
+    pub fraction: f64,
+    pub written_at: String,
+}
+
 /// A job as the API shows it.
 #[derive(Debug, Serialize)]
 pub struct JobView {
@@ -55,6 +65,9 @@ pub struct JobView {
     pub cancel_requested: bool,
     pub particles: i64,
     pub progress: Option<Value>,
+    /// Where the job's checkpoint stands while it has one (queued or running): a job put back
+    /// in the queue resumes there instead of starting over.
+    pub checkpoint: Option<CheckpointView>,
     pub error: Option<String>,
     pub sweep_id: Option<Uuid>,
     /// The values this job takes from its sweep, field → value.
@@ -81,6 +94,11 @@ impl JobView {
             cancel_requested: r.cancel_requested,
             particles: r.particles,
             progress: json(r.progress_json.as_deref()),
+            checkpoint: r.checkpoint.map(|c| CheckpointView {
+                step: c.step,
+                fraction: c.fraction,
+                written_at: rfc3339(c.written_at),
+            }),
             error: r.error.clone(),
             sweep_id: r.sweep_id,
             sweep_values: json(r.sweep_values_json.as_deref()),

@@ -2,11 +2,12 @@
 //! `spawn_blocking`, heartbeat while it runs and store the outcome; a reaper that puts back jobs
 //! whose worker died; and a bounded, requeueing drain on shutdown.
 
+use super::checkpointing::{self, RunObserver};
 use super::hub::{self, Hub, JobObserver};
 use super::state;
 use super::store::{signals, Claimed, Result as StoreResult, Signal, Status, Store, Succeeded};
 use super::views;
-use crate::solver::{self, Case, Limits, Progress, RunOutput, SolveError};
+use crate::solver::{self, Case, Checkpoint, Limits, Progress, Resume, RunOutput, SolveError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -29,6 +30,8 @@ pub struct WorkerConfig {
     pub poll: Duration,
     /// This node's name: stored with each job it claims (`--node-name`).
     pub node: String,
+    /// When running jobs store checkpoints.
+    pub checkpoints: checkpointing::Policy,
 }
 
 /// A job running in this process.
@@ -36,6 +39,8 @@ struct Running {
     cancel: Arc<AtomicBool>,
     /// The client asked for the cancel (as opposed to shutdown or a lost lease).
     user_cancel: AtomicBool,
+    /// A shutdown stops the run: it hands over a checkpoint before it stops.
+    stopping: Arc<AtomicBool>,
     particles: u64,
     latest: Arc<Mutex<Option<Progress>>>,
 }
@@ -172,10 +177,12 @@ impl Workers {
         &self.config.node
     }
 
-    /// Stops every run at its next step, to be requeued (shutdown).
+    /// Stops every run at its next step, to be requeued (shutdown): each stores a checkpoint
+    /// first, so that the next claim resumes it.
     pub fn stop_all(&self) {
         for r in self.running().values() {
-            r.cancel.store(true, Ordering::Relaxed);
+            r.stopping.store(true, Ordering::SeqCst);
+            r.cancel.store(true, Ordering::SeqCst);
         }
     }
 
@@ -192,15 +199,16 @@ impl Workers {
         (running.len(), rate)
     }
 
-    /// Waits up to `grace` for the running jobs, then stops the rest; they go back to the
-    /// queue as their solvers return (within a step).
+    /// Waits up to `grace` for the running jobs, then stops the rest; they store a checkpoint
+    /// and go back to the queue as their solvers return (within a step).
     pub async fn drain(&self, grace: Duration) {
         let deadline = Instant::now() + grace;
         while !self.running().is_empty() && Instant::now() < deadline {
             tokio::time::sleep(Duration::from_millis(50)).await;
         }
         self.stop_all();
-        let hard = Instant::now() + Duration::from_secs(5);
+        // Time for the last checkpoints to reach the store (seconds for the largest).
+        let hard = Instant::now() + Duration::from_secs(30);
         while !self.running().is_empty() && Instant::now() < hard {
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
@@ -278,6 +286,7 @@ impl Workers {
         let running = Arc::new(Running {
             cancel: Arc::new(AtomicBool::new(false)),
             user_cancel: AtomicBool::new(false),
+            stopping: Arc::new(AtomicBool::new(false)),
             particles: case.as_ref().map_or(0, |c| c.particle_count()),
             latest: Arc::new(Mutex::new(None)),
         });
@@ -298,8 +307,10 @@ impl Workers {
         self.announce(&job, stored, publisher).await;
     }
 
-    /// Runs the solver on the job's own rayon pool, heartbeating meanwhile. Returns the
-    /// outcome and, when the run returned (did not panic), its publisher.
+    /// Runs the solver on the job's own rayon pool, heartbeating meanwhile, from the job's
+    /// checkpoint when it has one that fits, storing checkpoints as it goes. Returns the outcome
+    /// and, when the run returned (did not panic), its publisher; the last checkpoint is stored
+    /// before it returns.
     async fn execute(
         &self,
         job: &Claimed,
@@ -316,14 +327,29 @@ impl Workers {
             Err(e) => return (Outcome::Failed(format!("no solver threads: {e}")), None),
         };
         let particles = running.particles;
+        let case = Arc::new(case);
+        let from = self.read_checkpoint(job, &case).await;
         let mut publisher = self.hub.publisher(id, job.attempt);
-        publisher.send(
-            "status",
-            serde_json::json!({"status": "running", "attempt": job.attempt}).to_string(),
+        let mut status = serde_json::json!({"status": "running", "attempt": job.attempt});
+        if let Some((step, fraction, _)) = &from {
+            status["resumes_at"] = serde_json::json!({"step": step, "fraction": fraction});
+        }
+        publisher.send("status", status.to_string());
+        let size = Checkpoint::size_for(&case, particles, case.spec().output.history_points as u64);
+        let started = checkpointing::start(
+            self.config.checkpoints,
+            size,
+            running.stopping.clone(),
+            self.store.clone(),
+            job.clone(),
         );
-        let mut observer = JobObserver {
-            publisher,
-            latest: running.latest.clone(),
+        let (sink, writer) = started.unzip();
+        let mut observer = RunObserver {
+            job: JobObserver {
+                publisher,
+                latest: running.latest.clone(),
+            },
+            sink,
         };
         tracing::info!(job = %id, attempt = job.attempt, particles, "job started");
         let heartbeat = tokio::spawn(heartbeat(
@@ -334,11 +360,18 @@ impl Workers {
         ));
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
-            let out = pool.install(|| solver::run(&case, &mut observer, &cancel));
-            (out, observer.publisher)
+            let out = pool.install(|| match from {
+                Some((_, _, from)) => solver::resume(&case, from, &mut observer, &cancel),
+                None => solver::run(&case, &mut observer, &cancel),
+            });
+            // The sink goes with the observer: the writer stores what it has and ends.
+            (out, observer.job.publisher)
         })
         .await;
         heartbeat.abort();
+        if let Some(writer) = writer {
+            let _ = writer.await;
+        }
         let user_cancel = running.user_cancel.load(Ordering::Relaxed);
         match result {
             Ok((out, publisher)) => (Outcome::of(Ok(out), user_cancel), Some(publisher)),
@@ -346,6 +379,39 @@ impl Workers {
                 let panic = panic_message(e);
                 tracing::error!(job = %id, error = %panic, "the solver panicked");
                 (Outcome::of(Err(panic), user_cancel), None)
+            }
+        }
+    }
+
+    /// The job's checkpoint, decoded and checked against its case, with the step and share
+    /// of the crush it stands at; `None` when it has none. One that cannot be used (damaged,
+    /// of another format or case) is deleted with a log line, and the run starts over.
+    async fn read_checkpoint(&self, job: &Claimed, case: &Arc<Case>) -> Option<(i64, f64, Resume)> {
+        let stored = match self.store.checkpoint(job.id).await {
+            Ok(stored) => stored?,
+            Err(e) => {
+                tracing::error!(job = %job.id, error = %e, "reading the checkpoint failed: the run starts over");
+                return None;
+            }
+        };
+        let (step, fraction) = (stored.step, stored.fraction);
+        let case = case.clone();
+        let read = tokio::task::spawn_blocking(move || Resume::read(&case, &stored.data)).await;
+        match read {
+            Ok(Ok(from)) => {
+                tracing::info!(job = %job.id, step, fraction, "resuming from the checkpoint");
+                Some((step, fraction, from))
+            }
+            Ok(Err(why)) => {
+                tracing::warn!(job = %job.id, step, reason = %why, "checkpoint discarded: the run starts over");
+                if let Err(e) = self.store.discard_checkpoint(job.id, job.lease).await {
+                    tracing::error!(job = %job.id, error = %e, "deleting the checkpoint failed");
+                }
+                None
+            }
+            Err(e) => {
+                tracing::error!(job = %job.id, error = %e, "reading the checkpoint panicked");
+                None
             }
         }
     }

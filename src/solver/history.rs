@@ -80,6 +80,26 @@ impl HistoryRow {
         ]
     }
 
+    /// The row whose [`HistoryRow::values`] are `v`.
+    pub fn from_values(v: [f64; 14]) -> HistoryRow {
+        HistoryRow {
+            time_ms: v[0],
+            displacement_mm: v[1],
+            load_top_n: v[2],
+            load_bottom_n: v[3],
+            kinetic_mj: v[4],
+            internal_mj: v[5],
+            plastic_mj: v[6],
+            external_mj: v[7],
+            friction_mj: v[8],
+            elastic_mj: v[9],
+            work_top_mj: v[10],
+            work_bottom_mj: v[11],
+            contact_mj: v[12],
+            residual_mj: v[13],
+        }
+    }
+
     /// Everything the plates' work went to that the books name, mJ.
     pub fn booked_mj(&self) -> f64 {
         self.kinetic_mj + self.internal_mj + self.friction_mj + self.contact_mj

@@ -5,6 +5,7 @@
 //! force is N, stress MPa, velocity m/s (= mm/ms) and energy mJ (= N·mm).
 
 pub mod case;
+pub mod checkpoint;
 pub mod contact;
 pub mod estimate;
 pub mod folds;
@@ -22,6 +23,7 @@ pub mod step;
 pub mod summary;
 
 pub use case::{Case, CaseError, CaseSpec, FieldError, Limits};
+pub use checkpoint::{Checkpoint, CheckpointError, Resume};
 pub use estimate::{estimate, Estimate};
 pub use history::HistoryRow;
 pub use mode::{detect_mode, ModeDetail};
@@ -68,4 +70,4 @@ pub enum SolveError {
 }
 
 mod run;
-pub use run::{run, run_scene};
+pub use run::{resume, run, run_scene};

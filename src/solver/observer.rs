@@ -1,6 +1,7 @@
 //! How a run reports while it goes: the [`Observer`] trait. The solver calls it on its own
 //! thread between steps; `()` ignores everything.
 
+use super::checkpoint::Checkpoint;
 use super::history::HistoryRow;
 
 /// A progress report, sent once per history row.
@@ -21,10 +22,23 @@ pub struct Progress {
     pub eta_s: f64,
 }
 
-/// Receives a run's progress. Both methods default to doing nothing.
+/// Receives a run's progress and, when it asks for them, its checkpoints. Every method
+/// defaults to doing nothing (and asking for nothing).
 pub trait Observer {
     fn on_progress(&mut self, _progress: &Progress) {}
     fn on_history(&mut self, _row: &HistoryRow) {}
+    /// Asked before every step: whether to hand over a checkpoint now (through
+    /// [`Observer::on_checkpoint`]). Called once a step, so it must be cheap.
+    fn wants_checkpoint(&mut self) -> bool {
+        false
+    }
+    /// Asked when the run sees its cancel flag: whether to hand over a checkpoint before it
+    /// stops (a shutdown that will resume the run elsewhere, not a client's cancel).
+    fn checkpoint_on_stop(&mut self) -> bool {
+        false
+    }
+    /// A checkpoint of the run at the current step boundary.
+    fn on_checkpoint(&mut self, _checkpoint: Checkpoint) {}
 }
 
 impl Observer for () {}

@@ -1,8 +1,10 @@
 //! The run loop: a case → scene → steps until the plate has travelled the crush distance, with
-//! history rows at equal displacement intervals, progress reports, cancellation and blow-up
-//! detection. Units: mm, ms, N, mJ.
+//! history rows at equal displacement intervals, progress reports, checkpoints, cancellation
+//! and blow-up detection. A run continued from a checkpoint ([`resume`]) gives the same bits as
+//! one that never stopped. Units: mm, ms, N, mJ.
 
 use super::case::Case;
+use super::checkpoint::{Checkpoint, Resume, Tally};
 use super::observer::{Observer, Progress};
 use super::scene::{lattice_positions, reported, Scene, BOTTOM, TOP};
 use super::step::{simulate, Driver, Engine};
@@ -21,6 +23,30 @@ pub fn run(
     run_scene(case, Scene::from_case(case), observer, cancel)
 }
 
+/// [`run`] from a checkpoint of the same case (read by [`Resume::read`]): the run goes on from
+/// the checkpoint's step and ends with the history, summary and final state the run that wrote
+/// it would have ended with (all but the wall-time figures, which add both stretches' times).
+pub fn resume(
+    case: &Case,
+    from: Resume,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
+    let run = Run {
+        case,
+        observer,
+        cancel,
+        start: Instant::now(),
+        from: Some(from),
+    };
+    simulate(
+        case.spec().discretization.model,
+        case.shape(),
+        Scene::from_case(case),
+        run,
+    )
+}
+
 /// [`run`] on a scene built from `case` and then changed: for checks that must run what no
 /// valid case describes (a time step past the stability limit, say) through the same loop and
 /// the same blow-up detection.
@@ -30,15 +56,14 @@ pub fn run_scene(
     observer: &mut dyn Observer,
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
-    let start = Instant::now();
-    let model = case.spec().discretization.model;
     let run = Run {
         case,
         observer,
         cancel,
-        start,
+        start: Instant::now(),
+        from: None,
     };
-    simulate(model, case.shape(), scene, run)
+    simulate(case.spec().discretization.model, case.shape(), scene, run)
 }
 
 /// The loop of one run, for whichever model and shape function the case chose.
@@ -47,6 +72,8 @@ struct Run<'a> {
     observer: &'a mut dyn Observer,
     cancel: &'a AtomicBool,
     start: Instant,
+    /// The checkpoint to continue from.
+    from: Option<Resume>,
 }
 
 impl Driver for Run<'_> {
@@ -58,6 +85,7 @@ impl Driver for Run<'_> {
             observer,
             cancel,
             start,
+            from,
         } = self;
         let spec = case.spec();
         let speed = spec.loading.plate_speed_m_s;
@@ -66,38 +94,43 @@ impl Driver for Run<'_> {
         let ramp = sim.scene().ramp;
         // The time the plate would take at full speed; the rows are at equal travel.
         let duration = crush / speed;
-        let mut rows = Vec::with_capacity(points);
-        let mut cost = RunCost {
-            dt_min_ms: Real::INFINITY,
-            ..Default::default()
+        let mut tally = match from {
+            Some(from) => from.restore(&mut sim),
+            None => Tally::new(points),
         };
-        let (mut gap_sum, mut gap_rows) = (0.0, 0u32);
-        for k in 1..=points {
+        let before_s = tally.elapsed_s;
+        let elapsed = |start: Instant| before_s + start.elapsed().as_secs_f64();
+        for k in tally.rows.len() + 1..=points {
             let end = ramp.time_at(duration * k as Real / points as Real);
-            let mut impulse = [0.0; 2];
-            let t0 = sim.time();
-            let mut kinetic = 0.0;
             while end - sim.time() > 1e-9 * duration {
+                if observer.wants_checkpoint() {
+                    tally.elapsed_s = elapsed(start);
+                    observer.on_checkpoint(Checkpoint::write(case, &sim, &tally, points));
+                }
                 if cancel.load(Ordering::Relaxed) {
+                    if observer.checkpoint_on_stop() {
+                        tally.elapsed_s = elapsed(start);
+                        observer.on_checkpoint(Checkpoint::write(case, &sim, &tally, points));
+                    }
                     return Err(SolveError::Cancelled { step: sim.steps() });
                 }
                 let info = sim.step(end - sim.time())?;
-                impulse[0] += info.contact.impulse[0];
-                impulse[1] += info.contact.impulse[1];
-                kinetic = info.kinetic;
-                cost.dt_min_ms = cost.dt_min_ms.min(info.stable_dt);
-                cost.dt_max_ms = cost.dt_max_ms.max(info.stable_dt);
-                cost.active_cells_max = cost.active_cells_max.max(sim.active_cells());
-                runaway(&sim, kinetic)?;
+                tally.impulse[0] += info.contact.impulse[0];
+                tally.impulse[1] += info.contact.impulse[1];
+                tally.kinetic = info.kinetic;
+                tally.dt_min_ms = tally.dt_min_ms.min(info.stable_dt);
+                tally.dt_max_ms = tally.dt_max_ms.max(info.stable_dt);
+                tally.active_cells_max = tally.active_cells_max.max(sim.active_cells());
+                runaway(&sim, tally.kinetic)?;
             }
-            let interval = sim.time() - t0;
+            let interval = sim.time() - tally.row_start_ms;
             let e = *sim.energy();
             let mut row = HistoryRow {
                 time_ms: sim.time(),
                 displacement_mm: speed * ramp.full_speed_time(sim.time()),
-                load_top_n: impulse[0] / interval,
-                load_bottom_n: impulse[1] / interval,
-                kinetic_mj: kinetic,
+                load_top_n: tally.impulse[0] / interval,
+                load_bottom_n: tally.impulse[1] / interval,
+                kinetic_mj: tally.kinetic,
                 internal_mj: e.internal,
                 plastic_mj: e.plastic,
                 external_mj: e.external(),
@@ -110,11 +143,11 @@ impl Driver for Run<'_> {
             };
             row.residual_mj = row.external_mj - row.booked_mj();
             if row.load_top_n > 0.0 {
-                gap_sum += contact_gap(&sim);
-                gap_rows += 1;
+                tally.gap_sum += contact_gap(&sim);
+                tally.gap_rows += 1;
             }
             observer.on_history(&row);
-            let elapsed = start.elapsed().as_secs_f64();
+            let elapsed = elapsed(start);
             let fraction = k as Real / points as Real;
             observer.on_progress(&Progress {
                 step: sim.steps(),
@@ -125,7 +158,10 @@ impl Driver for Run<'_> {
                 elapsed_s: elapsed,
                 eta_s: elapsed * (1.0 - fraction) / fraction,
             });
-            rows.push(row);
+            tally.rows.push(row);
+            tally.row_start_ms = sim.time();
+            tally.impulse = [0.0; 2];
+            tally.kinetic = 0.0;
         }
         let p = &sim.scene().particles;
         let (model, length) = (spec.discretization.model, spec.tube.length_mm);
@@ -134,19 +170,25 @@ impl Driver for Run<'_> {
             position_mm: p.in_original_order(|i| reported(model, length, &p.x[i])),
             plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
         };
-        cost.particles = p.len() as u64;
-        cost.steps = sim.steps();
-        cost.wall_time_s = start.elapsed().as_secs_f64();
-        cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
-        cost.threads = rayon::current_num_threads() as u32;
-        cost.contact_gap_mm = if gap_rows > 0 {
-            gap_sum / gap_rows as Real
-        } else {
-            0.0
+        let mut cost = RunCost {
+            particles: p.len() as u64,
+            steps: sim.steps(),
+            dt_min_ms: tally.dt_min_ms,
+            dt_max_ms: tally.dt_max_ms,
+            active_cells_max: tally.active_cells_max,
+            wall_time_s: elapsed(start),
+            threads: rayon::current_num_threads() as u32,
+            contact_gap_mm: if tally.gap_rows > 0 {
+                tally.gap_sum / tally.gap_rows as Real
+            } else {
+                0.0
+            },
+            ..Default::default()
         };
-        let (summary, mode_detail) = summary::summarize(case, &rows, &snapshot, cost);
+        cost.particle_steps_per_s = cost.particles as Real * cost.steps as Real / cost.wall_time_s;
+        let (summary, mode_detail) = summary::summarize(case, &tally.rows, &snapshot, cost);
         Ok(RunOutput {
-            history: rows,
+            history: tally.rows,
             summary,
             mode_detail,
             snapshot,

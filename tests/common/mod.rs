@@ -45,6 +45,17 @@ pub fn long_case() -> Value {
     })
 }
 
+/// Runs for several seconds with many steps per history row: long enough to take checkpoints
+/// mid-run and stop the server after one, short enough to run twice in a test.
+pub fn resumable_case() -> Value {
+    json!({
+        "tube": {"length_mm": 76.2},
+        "discretization": {"particles_through_thickness": 2},
+        "loading": {"crush_distance_mm": 40, "plate_speed_m_s": 20},
+        "output": {"history_points": 200}
+    })
+}
+
 pub fn client() -> reqwest::Client {
     reqwest::Client::builder()
         .timeout(Duration::from_secs(30))
@@ -321,11 +332,28 @@ impl SseReader {
 pub struct Child {
     pub process: std::process::Child,
     pub url: String,
+    /// Its log lines (stderr), when started with [`Child::logged`].
+    pub log: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
 }
 
 impl Child {
     /// Starts `crush serve --port 0` on the database and reads the bound address it prints.
     pub fn start(db: &str, flags: &[&str]) -> Child {
+        Child::spawn(db, flags, None)
+    }
+
+    /// [`Child::start`] keeping its log lines at `level` and above in [`Child::log`] (they are
+    /// printed too).
+    pub fn logged(db: &str, flags: &[&str], level: &str) -> Child {
+        Child::spawn(db, flags, Some(level))
+    }
+
+    /// Whether a log line so far contains `text`.
+    pub fn logged_line(&self, text: &str) -> bool {
+        self.log.lock().unwrap().iter().any(|l| l.contains(text))
+    }
+
+    fn spawn(db: &str, flags: &[&str], level: Option<&str>) -> Child {
         let mut process = std::process::Command::new(env!("CARGO_BIN_EXE_crush"))
             .args([
                 "serve",
@@ -337,11 +365,26 @@ impl Child {
                 "1",
             ])
             .args(flags)
-            .env("RUST_LOG", "warn")
+            .env("RUST_LOG", level.unwrap_or("warn"))
+            .env("NO_COLOR", "1")
             .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
+            .stderr(if level.is_some() {
+                Stdio::piped()
+            } else {
+                Stdio::inherit()
+            })
             .spawn()
             .expect("the crush binary starts");
+        let log = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        if let Some(stderr) = process.stderr.take() {
+            let log = log.clone();
+            std::thread::spawn(move || {
+                for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                    eprintln!("{line}");
+                    log.lock().unwrap().push(line);
+                }
+            });
+        }
         let stdout = process.stdout.take().unwrap();
         let mut lines = BufReader::new(stdout).lines();
         let line = lines
@@ -352,7 +395,7 @@ impl Child {
         assert!(url.starts_with("http://"), "unexpected first line {line:?}");
         // Keep draining stdout so the server never blocks on a full pipe.
         std::thread::spawn(move || for _ in lines {});
-        Child { process, url }
+        Child { process, url, log }
     }
 
     pub fn pid(&self) -> i32 {

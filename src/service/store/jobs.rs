@@ -154,6 +154,7 @@ impl Store {
                 .bind(id.to_string())
                 .execute(&mut *tx)
                 .await?;
+                super::checkpoints::forget(&mut tx, &id.to_string()).await?;
                 Status::Cancelled
             }
             Status::Running => {

@@ -6,12 +6,14 @@
 //! milliseconds.
 
 mod backend;
+mod checkpoints;
 mod file;
 mod jobs;
 pub mod signals;
 mod sweeps;
 mod worker;
 
+pub use checkpoints::StoredCheckpoint;
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use signals::Signal;
 pub use sweeps::{NewSweep, SweepRecord, SweepSubmitted};
@@ -141,9 +143,22 @@ pub struct JobRecord {
     pub error: Option<String>,
     /// The node that runs the job, or that ran its last claim (`--node-name`).
     pub node: Option<String>,
+    /// Where its checkpoint stands, while it has one: a requeued job resumes there.
+    pub checkpoint: Option<CheckpointMark>,
     /// The run's summary, once it succeeded: read back typed, so that a field the solver
     /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
     pub summary: Option<Summary>,
+}
+
+/// Where a job's checkpoint stands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckpointMark {
+    /// Solver steps done.
+    pub step: i64,
+    /// Share of the crush distance done, 0..1.
+    pub fraction: f64,
+    /// When it was stored, unix ms.
+    pub written_at: i64,
 }
 
 /// The store. Cheap to clone (a pool handle).
@@ -343,7 +358,8 @@ pub fn now_ms() -> i64 {
 /// The columns every job query selects ([`job_from_row`] reads them by name).
 const JOB_COLUMNS: &str = "j.seq, j.id, j.status, j.label, j.case_json, j.particles, j.sweep_id, \
      j.sweep_values_json, j.created_at, j.started_at, j.finished_at, j.attempts, \
-     j.cancel_requested, j.progress_json, j.error, j.worker, s.summary_json";
+     j.cancel_requested, j.progress_json, j.error, j.worker, j.checkpoint_step, \
+     j.checkpoint_fraction, j.checkpoint_at, s.summary_json";
 
 /// `FROM` clause matching [`JOB_COLUMNS`].
 const JOB_FROM: &str = "jobs j LEFT JOIN summaries s ON s.job_id = j.id";
@@ -372,6 +388,18 @@ fn job_from_row(row: &sqlx::any::AnyRow) -> Result<JobRecord> {
         progress_json: row.try_get("progress_json")?,
         error: row.try_get("error")?,
         node: row.try_get("worker")?,
+        checkpoint: match (
+            row.try_get::<Option<i64>, _>("checkpoint_step")?,
+            row.try_get::<Option<f64>, _>("checkpoint_fraction")?,
+            row.try_get::<Option<i64>, _>("checkpoint_at")?,
+        ) {
+            (Some(step), Some(fraction), Some(written_at)) => Some(CheckpointMark {
+                step,
+                fraction,
+                written_at,
+            }),
+            _ => None,
+        },
         summary: read_summary(&id, row.try_get("summary_json")?)?,
     })
 }

@@ -147,6 +147,7 @@ impl Store {
             .bind(&job)
             .execute(&mut *tx)
             .await?;
+        super::checkpoints::forget(&mut tx, &job).await?;
         if let Some((particles, data)) = final_state {
             sqlx::query("INSERT INTO final_states (job_id, particles, data) VALUES ($1, $2, $3)")
                 .bind(&job)
@@ -228,8 +229,9 @@ impl Store {
     }
 
     /// Puts a job this worker could not finish (shutdown) back in the queue, and returns
-    /// `Queued`; or, when a cancel was asked, `Cancelled`; or, when it has been claimed
-    /// `max_attempts` times already, `Failed`. `None` when the lease was lost.
+    /// `Queued`; or, when a cancel was asked, `Cancelled`; or, when `max_attempts` of its
+    /// claims stored no checkpoint (made no progress that a later claim keeps), `Failed`.
+    /// `None` when the lease was lost.
     pub async fn requeue(
         &self,
         id: Uuid,
@@ -240,15 +242,16 @@ impl Store {
         let Some(cancel_requested) = holds(&self.backend, &mut tx, id, lease).await? else {
             return Ok(None);
         };
-        let (attempts,): (i64,) = sqlx::query_as("SELECT attempts FROM jobs WHERE id = $1")
-            .bind(id.to_string())
-            .fetch_one(&mut *tx)
-            .await?;
+        let (attempts, fruitless): (i64, i64) =
+            sqlx::query_as("SELECT attempts, attempts - advanced FROM jobs WHERE id = $1")
+                .bind(id.to_string())
+                .fetch_one(&mut *tx)
+                .await?;
         let status = if cancel_requested {
             end_run(&mut tx, id, Status::Cancelled, None).await?;
             Status::Cancelled
-        } else if attempts >= max_attempts as i64 {
-            let error = out_of_attempts(attempts);
+        } else if fruitless >= max_attempts as i64 {
+            let error = out_of_attempts(attempts, fruitless);
             end_run(&mut tx, id, Status::Failed, Some(&error)).await?;
             Status::Failed
         } else {
@@ -266,7 +269,8 @@ impl Store {
     }
 
     /// Running jobs whose heartbeat is older than `stale_ms`: back to the queue, or failed
-    /// once they have been claimed `max_attempts` times, or cancelled if that was asked.
+    /// once `max_attempts` of their claims stored no checkpoint, or cancelled if that was
+    /// asked.
     pub async fn reap_stale(&self, stale_ms: i64, max_attempts: u32) -> Result<Reaped> {
         let now = now_ms();
         let cutoff = now - stale_ms;
@@ -285,9 +289,11 @@ impl Store {
         .await?;
         let failed = sqlx::query_as(
             "UPDATE jobs SET status = 'failed', finished_at = $1, lease = NULL, heartbeat_at = NULL, \
-             lost = lost + 1, error = 'started ' || attempts || ' times (the most allowed) and ' \
-             || 'never finished: its worker stopped answering ' || (lost + 1) || ' of them' \
-             WHERE status = 'running' AND heartbeat_at < $2 AND attempts >= $3 RETURNING id",
+             lost = lost + 1, error = 'started ' || attempts || ' times, ' || (attempts - advanced) \
+             || ' of them without storing a checkpoint (the most allowed), and never finished: ' \
+             || 'its worker stopped answering ' || (lost + 1) || ' of them' \
+             WHERE status = 'running' AND heartbeat_at < $2 AND attempts - advanced >= $3 \
+             RETURNING id",
         )
         .bind(now)
         .bind(cutoff)
@@ -302,11 +308,15 @@ impl Store {
         .bind(cutoff)
         .fetch_all(&mut *tx)
         .await?;
+        let (failed, cancelled) = (ids(failed)?, ids(cancelled)?);
+        for id in failed.iter().chain(&cancelled) {
+            super::checkpoints::forget(&mut tx, &id.to_string()).await?;
+        }
         tx.commit().await?;
         Ok(Reaped {
             requeued: ids(requeued)?,
-            failed: ids(failed)?,
-            cancelled: ids(cancelled)?,
+            failed,
+            cancelled,
         })
     }
 }
@@ -314,7 +324,7 @@ impl Store {
 /// Whether `lease` still holds the running job `id`: `Some(cancel_requested)` if it does.
 /// The row stays locked to the end of the transaction on PostgreSQL, so no cancel or reaper
 /// can change it between this check and the write that follows.
-async fn holds(
+pub(super) async fn holds(
     backend: &super::Backend,
     tx: &mut sqlx::Transaction<'static, Any>,
     id: Uuid,
@@ -332,13 +342,15 @@ async fn holds(
     Ok(row.map(|(c,)| c != 0))
 }
 
-/// Ends a held run as `status` (failed or cancelled) with an optional reason.
+/// Ends a held run as `status` (failed or cancelled) with an optional reason; its checkpoint
+/// goes.
 async fn end_run(
     tx: &mut sqlx::Transaction<'static, Any>,
     id: Uuid,
     status: Status,
     error: Option<&str>,
 ) -> Result<()> {
+    super::checkpoints::forget(tx, &id.to_string()).await?;
     sqlx::query(
         "UPDATE jobs SET status = $1, error = $2, finished_at = $3, lease = NULL, \
          heartbeat_at = NULL WHERE id = $4",
@@ -368,8 +380,11 @@ fn history_insert(rows: usize, width: usize) -> String {
 }
 
 /// Why a job that used up its attempts failed.
-fn out_of_attempts(attempts: i64) -> String {
-    format!("started {attempts} times (the most allowed) and never finished; not retried again")
+fn out_of_attempts(attempts: i64, fruitless: i64) -> String {
+    format!(
+        "started {attempts} times, {fruitless} of them without storing a checkpoint (the most \
+         allowed), and never finished; not retried again"
+    )
 }
 
 #[cfg(test)]
