@@ -141,6 +141,8 @@ pub struct JobRecord {
     pub error: Option<String>,
     /// The node that runs the job, or that ran its last claim (`--node-name`).
     pub node: Option<String>,
+    /// The name of the token that submitted it; `None` without tokens.
+    pub owner: Option<String>,
     /// The run's summary, once it succeeded: read back typed, so that a field the solver
     /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
     pub summary: Option<Summary>,
@@ -343,7 +345,7 @@ pub fn now_ms() -> i64 {
 /// The columns every job query selects ([`job_from_row`] reads them by name).
 const JOB_COLUMNS: &str = "j.seq, j.id, j.status, j.label, j.case_json, j.particles, j.sweep_id, \
      j.sweep_values_json, j.created_at, j.started_at, j.finished_at, j.attempts, \
-     j.cancel_requested, j.progress_json, j.error, j.worker, s.summary_json";
+     j.cancel_requested, j.progress_json, j.error, j.worker, j.owner, s.summary_json";
 
 /// `FROM` clause matching [`JOB_COLUMNS`].
 const JOB_FROM: &str = "jobs j LEFT JOIN summaries s ON s.job_id = j.id";
@@ -372,6 +374,7 @@ fn job_from_row(row: &sqlx::any::AnyRow) -> Result<JobRecord> {
         progress_json: row.try_get("progress_json")?,
         error: row.try_get("error")?,
         node: row.try_get("worker")?,
+        owner: row.try_get("owner")?,
         summary: read_summary(&id, row.try_get("summary_json")?)?,
     })
 }

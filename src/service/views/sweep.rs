@@ -336,6 +336,7 @@ mod tests {
             progress_json: None,
             error: None,
             node: None,
+            owner: None,
             summary,
         };
         let sweep = SweepRecord {
