@@ -502,3 +502,35 @@ async fn every_answer_carries_the_security_headers() {
         assert_eq!(h["referrer-policy"], "no-referrer");
     }
 }
+
+/// `compose.yaml` publishes the page on the host's loopback only, and every crush node reads
+/// the token file. (Docker is not on the test machines: this reads the file.)
+#[test]
+fn compose_publishes_on_loopback_only_and_gives_every_node_the_token_file() {
+    let text = std::fs::read_to_string(repo_file("compose.yaml")).unwrap();
+    let mut doc: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    doc.apply_merge().unwrap();
+    let secret = doc["secrets"]["crush-tokens"]["file"].as_str();
+    assert_eq!(secret, Some("./crush-tokens"));
+    let mut nodes = 0;
+    for (name, service) in doc["services"].as_mapping().unwrap() {
+        for port in service["ports"].as_sequence().into_iter().flatten() {
+            let port = port.as_str().unwrap();
+            assert!(port.starts_with("127.0.0.1:"), "{name:?} publishes {port}");
+        }
+        if name.as_str() == Some("postgres") {
+            continue;
+        }
+        nodes += 1;
+        let mut env = service["environment"].clone();
+        env.apply_merge().unwrap();
+        assert_eq!(
+            env["CRUSH_TOKEN_FILE"].as_str(),
+            Some("/run/secrets/crush-tokens"),
+            "{name:?}"
+        );
+        let secrets = service["secrets"].as_sequence().unwrap();
+        assert!(secrets.iter().any(|s| s.as_str() == Some("crush-tokens")));
+    }
+    assert_eq!(nodes, 3);
+}

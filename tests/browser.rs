@@ -481,6 +481,11 @@ async fn the_page_asks_for_a_token_once_and_keeps_it_in_a_cookie() {
     .await;
     let bars = js(&c, "return document.querySelectorAll('#signin').length;").await;
     assert_eq!(bars.as_u64(), Some(1));
+    let shots = std::env::var_os("CRUSH_SCREENSHOTS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| common::repo_file("target/browser-screenshots"));
+    std::fs::create_dir_all(&shots).unwrap();
+    shot(&c, &shots, "7-token").await;
     // A wrong token is refused where it was typed.
     let input = c.find(Locator::Css("#token-input")).await.unwrap();
     input.send_keys("not-a-token-of-this-server").await.unwrap();
