@@ -166,6 +166,7 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     }
     problem(
         c.post(app.at(&format!("/v1/jobs/{unknown}/cancel")))
+            .json(&json!({}))
             .send()
             .await
             .unwrap(),
@@ -261,12 +262,14 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     // 409: cancelling a finished job.
     let r = c
         .post(app.at(&format!("/v1/jobs/{id}/cancel")))
+        .header("content-type", "application/json")
         .send()
         .await
         .unwrap();
     assert_eq!(r.status(), 200);
     problem(
         c.post(app.at(&format!("/v1/jobs/{id}/cancel")))
+            .json(&json!({}))
             .send()
             .await
             .unwrap(),

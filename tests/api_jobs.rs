@@ -422,6 +422,7 @@ async fn openapi_describes_exactly_the_routes_the_server_answers() {
         let url = app.at(&path.replace("{id}", id));
         let r = match method.as_str() {
             "GET" => app.client.get(url),
+            "DELETE" => app.client.delete(url),
             _ => app.client.post(url).json(&json!({})),
         }
         .send()

@@ -423,3 +423,138 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     assert_eq!(errors, json!([]), "uncaught errors in the page");
     c.close().await.unwrap();
 }
+
+/// A server with tokens: the page asks for one once, keeps it in a cookie no script can read
+/// (so event streams, pictures and download links carry it), shows who is signed in, and
+/// forgets it on request; the content security policy blocks nothing the page uses.
+#[tokio::test]
+#[cfg_attr(
+    not(crush_browser),
+    ignore = "needs chromium and chromedriver on PATH when the tests are built \
+              (apt-get install chromium chromium-driver), or CRUSH_BROWSER_TEST=required"
+)]
+async fn the_page_asks_for_a_token_once_and_keeps_it_in_a_cookie() {
+    let chromium = find_program(
+        "CRUSH_CHROMIUM",
+        &["chromium", "chromium-browser", "google-chrome"],
+    );
+    let chromedriver = find_program("CRUSH_CHROMEDRIVER", &["chromedriver"]);
+    let (Some(chromium), Some(chromedriver)) = (chromium, chromedriver) else {
+        panic!("chromium or chromedriver is missing (CRUSH_BROWSER_TEST=required or PATH changed since the build)");
+    };
+    let token = "lab-token-0123456789abcdef";
+    let files = tempfile::tempdir().unwrap();
+    let token_file = files.path().join("tokens");
+    std::fs::write(&token_file, format!("lab submit {token}\n")).unwrap();
+    let app = TestApp::start(&[
+        "--concurrent-jobs",
+        "1",
+        "--token-file",
+        token_file.to_str().unwrap(),
+    ])
+    .await;
+    let job = app
+        .client
+        .post(app.at("/v1/jobs"))
+        .bearer_auth(token)
+        .json(&common::tiny_case())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(job.status(), 202);
+    let id = job.json::<Value>().await.unwrap()["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let driver = start_driver(&chromedriver).await;
+    let profile = tempfile::tempdir().unwrap();
+    let c = connect(&driver, &chromium, profile.path()).await;
+    let long = Duration::from_secs(120);
+
+    c.goto(&format!("{}/#/jobs/{id}", app.url)).await.unwrap();
+    until(
+        &c,
+        "return !document.getElementById('signin').hidden;",
+        long,
+        "the sign-in bar",
+    )
+    .await;
+    let bars = js(&c, "return document.querySelectorAll('#signin').length;").await;
+    assert_eq!(bars.as_u64(), Some(1));
+    let shots = std::env::var_os("CRUSH_SCREENSHOTS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| common::repo_file("target/browser-screenshots"));
+    std::fs::create_dir_all(&shots).unwrap();
+    shot(&c, &shots, "7-token").await;
+    // A wrong token is refused where it was typed.
+    let input = c.find(Locator::Css("#token-input")).await.unwrap();
+    input.send_keys("not-a-token-of-this-server").await.unwrap();
+    click(&c, "#signin button").await;
+    let refused = until(
+        &c,
+        "return document.getElementById('signin-error').textContent;",
+        long,
+        "the refusal",
+    )
+    .await;
+    assert!(
+        refused.as_str().unwrap().contains("not a token"),
+        "{refused}"
+    );
+    input.clear().await.unwrap();
+    input.send_keys(token).await.unwrap();
+    click(&c, "#signin button").await;
+    // The page reloads signed in: the job's stream, its picture and its downloads all work.
+    until(
+        &c,
+        "const s = document.getElementById('session'); return s && s.textContent.includes('lab (submit)');",
+        long,
+        "who is signed in",
+    )
+    .await;
+    until(
+        &c,
+        "const b = document.getElementById('job-status'); return b && b.textContent === 'succeeded';",
+        long,
+        "the job to succeed",
+    )
+    .await;
+    until(
+        &c,
+        "const i = document.getElementById('shape'); return i && i.complete && i.naturalWidth > 0;",
+        long,
+        "the deformed-tube picture",
+    )
+    .await;
+    js(
+        &c,
+        "window.__downloads = null; \
+         Promise.all([...document.querySelectorAll('.downloads a')].map(a => fetch(a.href).then(r => r.status))) \
+           .then(s => { window.__downloads = s; }); return true;",
+    )
+    .await;
+    let statuses = until(&c, "return window.__downloads;", long, "the downloads").await;
+    assert_eq!(statuses, json!([200, 200, 200, 200]));
+    let hidden = js(&c, "return document.getElementById('signin').hidden;").await;
+    assert_eq!(hidden, true);
+    // No script can read the token back.
+    let cookies = js(&c, "return document.cookie;").await;
+    assert_eq!(cookies, "");
+    let errors = js(&c, "return window.__errors;").await;
+    assert_eq!(
+        errors,
+        json!([]),
+        "uncaught errors or CSP violations in the page"
+    );
+
+    // Forgetting the token brings the sign-in bar back.
+    click(&c, "#forget-token").await;
+    until(
+        &c,
+        "const f = document.getElementById('signin'); return f && !f.hidden && !document.getElementById('forget-token');",
+        long,
+        "the sign-in bar after forgetting",
+    )
+    .await;
+    c.close().await.unwrap();
+}

@@ -2,7 +2,7 @@
 // (live load curve, summary against the closed-form references, deformed-tube picture,
 // downloads), and a sweep view (overlaid curves, table, convergence: error against run time).
 // Plain JavaScript; the one library is uPlot, served by this server like everything else.
-import { leaveView, el } from "./util.js";
+import { leaveView, el, setUpSession } from "./util.js";
 import { startJobList } from "./list.js";
 import { renderForm } from "./form.js";
 import { renderJob } from "./job.js";
@@ -12,6 +12,9 @@ import { renderSweep } from "./sweep.js";
 window.__errors = [];
 window.addEventListener("error", (e) => window.__errors.push(String(e.message)));
 window.addEventListener("unhandledrejection", (e) => window.__errors.push(String(e.reason)));
+// Anything the content security policy blocked (the server sends one with every answer).
+document.addEventListener("securitypolicyviolation", (e) =>
+  window.__errors.push(`CSP blocked ${e.blockedURI || "inline"} (${e.violatedDirective})`));
 
 // ---------- routing ----------
 
@@ -32,5 +35,6 @@ async function renderRoute() {
 }
 
 window.addEventListener("hashchange", renderRoute);
+setUpSession();
 startJobList();
 renderRoute();

@@ -95,7 +95,7 @@ function caseTable(c) {
 export async function renderJob(main, id) {
   fields = (await loadFields().catch(() => null)) || [];
   const r = await api("GET", `/v1/jobs/${id}`);
-  if (!r.ok) { main.replaceChildren(el("h1", {}, "Job not found"), el("p", {}, r.data && r.data.detail)); return; }
+  if (!r.ok) { main.replaceChildren(el("h1", {}, r.status === 401 ? "Sign in to see this job" : "Job not found"), el("p", {}, r.data && r.data.detail)); return; }
   let job = r.data;
   const status = el("span", { class: "badge " + job.status, id: "job-status" }, job.status);
   const bar = el("progress", { id: "job-progress", max: "1", value: String(job.status === "succeeded" ? 1 : (job.progress && job.progress.fraction) || 0) });

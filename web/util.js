@@ -16,11 +16,13 @@ export function el(tag, attrs, ...kids) {
   return e;
 }
 
+// Every request but a GET carries a JSON body (`{}` when it has nothing to say): the server
+// takes no other, so that a plain HTML form on another site cannot act on it.
 export async function api(method, path, body) {
   const init = { method, headers: { Accept: "application/json" } };
-  if (body !== undefined) {
+  if (method !== "GET") {
     init.headers["Content-Type"] = "application/json";
-    init.body = JSON.stringify(body);
+    init.body = JSON.stringify(body === undefined ? {} : body);
   }
   let res;
   try {
@@ -31,7 +33,40 @@ export async function api(method, path, body) {
   let data = null;
   const text = await res.text();
   try { data = text ? JSON.parse(text) : null; } catch (_) { data = { detail: text }; }
+  if (res.status === 401) askForToken();
   return { ok: res.ok, status: res.status, data };
+}
+
+// ---------- the token (servers with --token-file) ----------
+
+// Shows the sign-in bar once, however many requests were refused. The token goes to
+// POST /v1/session, which keeps it in an HttpOnly cookie: event streams, pictures and download
+// links send that cookie, and no script can read it back.
+export function askForToken() {
+  const form = document.getElementById("signin");
+  if (!form.hidden) return;
+  form.hidden = false;
+  document.getElementById("token-input").focus();
+}
+
+export function setUpSession() {
+  const form = document.getElementById("signin");
+  form.addEventListener("submit", async (e) => {
+    e.preventDefault();
+    const input = document.getElementById("token-input");
+    const r = await api("POST", "/v1/session", { token: input.value.trim() });
+    if (r.ok) { location.reload(); return; }
+    document.getElementById("signin-error").textContent = (r.data && r.data.detail) || "refused";
+  });
+  api("GET", "/v1/session").then((r) => {
+    if (!r.ok || !r.data.name) return;
+    const forget = el("a", { href: "#", id: "forget-token", onclick: async (e) => {
+      e.preventDefault();
+      await api("DELETE", "/v1/session");
+      location.reload();
+    } }, "forget token");
+    document.getElementById("session").replaceChildren(`${r.data.name} (${r.data.role}) · `, forget);
+  });
 }
 
 export const kN = (n) => (n === null || n === undefined ? "–" : (n / 1000).toFixed(2) + " kN");

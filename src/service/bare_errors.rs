@@ -1,46 +1,31 @@
 //! Problem+json for the answers hyper gives on its own. A request whose head cannot be parsed
 //! (a URI over 64 KiB: 414; a malformed header line: 400; headers over hyper's buffer: 431)
-//! never reaches the router: hyper writes a bare head with `content-length: 0` and closes. The
-//! listener here wraps each connection and rewrites exactly such a head into the problem
+//! never reaches the router: hyper writes a bare head with `content-length: 0` and closes.
+//! [`ProblemIo`] wraps each connection and rewrites exactly such a head into the problem
 //! document every other error gets. The router never answers a 4xx without a body (see
 //! `routes::problem_everywhere`), so no answer of ours is mistaken for one of hyper's.
 
-use axum::serve::Listener;
 use std::io;
 use std::pin::Pin;
 use std::task::{ready, Context, Poll};
 use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
-use tokio::net::{TcpListener, TcpStream};
 
-/// A TCP listener whose connections get problem+json instead of hyper's bare error heads.
-pub struct ProblemListener(pub TcpListener);
-
-impl Listener for ProblemListener {
-    type Io = ProblemIo;
-    type Addr = std::net::SocketAddr;
-
-    async fn accept(&mut self) -> (Self::Io, Self::Addr) {
-        let (io, addr) = Listener::accept(&mut self.0).await;
-        (
-            ProblemIo {
-                inner: io,
-                pending: None,
-            },
-            addr,
-        )
-    }
-
-    fn local_addr(&self) -> io::Result<Self::Addr> {
-        self.0.local_addr()
-    }
-}
-
-/// One connection. Not vectored, so hyper hands each head to `poll_write` in one piece.
-pub struct ProblemIo {
-    inner: TcpStream,
+/// One connection whose answers get problem+json instead of hyper's bare error heads. Not
+/// vectored, so hyper hands each head to `poll_write` in one piece.
+pub struct ProblemIo<I> {
+    inner: I,
     /// A rewritten answer still being written: its bytes, how many are out, and the length of
     /// hyper's buffer it stands for.
     pending: Option<(Vec<u8>, usize, usize)>,
+}
+
+impl<I> ProblemIo<I> {
+    pub fn new(inner: I) -> ProblemIo<I> {
+        ProblemIo {
+            inner,
+            pending: None,
+        }
+    }
 }
 
 /// The problem answer standing for hyper's bare head `buf`, if it is one.
@@ -83,7 +68,7 @@ fn rewrite(buf: &[u8]) -> Option<Vec<u8>> {
     )
 }
 
-impl AsyncRead for ProblemIo {
+impl<I: AsyncRead + Unpin> AsyncRead for ProblemIo<I> {
     fn poll_read(
         mut self: Pin<&mut Self>,
         cx: &mut Context<'_>,
@@ -93,7 +78,7 @@ impl AsyncRead for ProblemIo {
     }
 }
 
-impl AsyncWrite for ProblemIo {
+impl<I: AsyncWrite + Unpin> AsyncWrite for ProblemIo<I> {
     fn poll_write(
         mut self: Pin<&mut Self>,
         cx: &mut Context<'_>,

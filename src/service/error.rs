@@ -36,6 +36,24 @@ pub enum ApiError {
     },
     #[error("{detail}")]
     Unavailable { detail: String, retry_after_s: u32 },
+    /// No valid token where one is needed (answered with `WWW-Authenticate: Bearer`).
+    #[error("{detail}")]
+    Unauthorized {
+        detail: String,
+        /// The token sent was not one of the server's (RFC 6750's `invalid_token`).
+        invalid_token: bool,
+    },
+    /// A token whose role is too low, or a cross-site request.
+    #[error("{detail}")]
+    Forbidden { detail: String },
+    /// A `Host` this server does not answer to (DNS rebinding).
+    #[error("this server does not answer to the host {host:?}; it answers to {answers}")]
+    UnknownHost { host: String, answers: String },
+    /// The request body did not arrive in time.
+    #[error("the request body did not arrive within {seconds} s")]
+    BodyTimeout { seconds: f64 },
+    #[error("{detail}")]
+    TooManyRequests { detail: String, retry_after_s: u32 },
     #[error("internal error")]
     Internal(#[source] Box<dyn std::error::Error + Send + Sync>),
 }
@@ -127,6 +145,31 @@ impl ApiError {
                 "urn:crush:problem:unavailable",
                 "Service unavailable",
             ),
+            ApiError::Unauthorized { .. } => (
+                StatusCode::UNAUTHORIZED,
+                "urn:crush:problem:unauthorized",
+                "Unauthorized",
+            ),
+            ApiError::Forbidden { .. } => (
+                StatusCode::FORBIDDEN,
+                "urn:crush:problem:forbidden",
+                "Forbidden",
+            ),
+            ApiError::UnknownHost { .. } => (
+                StatusCode::MISDIRECTED_REQUEST,
+                "urn:crush:problem:unknown-host",
+                "Unknown host",
+            ),
+            ApiError::BodyTimeout { .. } => (
+                StatusCode::REQUEST_TIMEOUT,
+                "urn:crush:problem:body-timeout",
+                "Request body timeout",
+            ),
+            ApiError::TooManyRequests { .. } => (
+                StatusCode::TOO_MANY_REQUESTS,
+                "urn:crush:problem:rate-limited",
+                "Too many requests",
+            ),
             ApiError::Internal(_) => (
                 StatusCode::INTERNAL_SERVER_ERROR,
                 "urn:crush:problem:internal",
@@ -204,8 +247,28 @@ impl IntoResponse for ApiError {
             (status, serde_json::to_string(&body).unwrap_or_default()).into_response();
         let headers = response.headers_mut();
         headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
-        if let ApiError::Unavailable { retry_after_s, .. } = &self {
-            headers.insert(header::RETRY_AFTER, HeaderValue::from(*retry_after_s));
+        match &self {
+            ApiError::Unavailable { retry_after_s, .. }
+            | ApiError::TooManyRequests { retry_after_s, .. } => {
+                headers.insert(header::RETRY_AFTER, HeaderValue::from(*retry_after_s));
+            }
+            ApiError::Unauthorized { invalid_token, .. } => {
+                let challenge = if *invalid_token {
+                    "Bearer realm=\"crush\", error=\"invalid_token\""
+                } else {
+                    "Bearer realm=\"crush\""
+                };
+                headers.insert(
+                    header::WWW_AUTHENTICATE,
+                    HeaderValue::from_static(challenge),
+                );
+            }
+            // The connection is closed after a body that did not arrive: what is left of it
+            // cannot be told from the next request.
+            ApiError::BodyTimeout { .. } => {
+                headers.insert(header::CONNECTION, HeaderValue::from_static("close"));
+            }
+            _ => {}
         }
         response
     }

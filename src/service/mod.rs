@@ -4,8 +4,10 @@
 mod bare_errors;
 mod checkpointing;
 mod cluster;
+mod connection;
 mod error;
 mod form;
+pub mod guard;
 pub mod hub;
 mod routes;
 pub mod state;
@@ -14,7 +16,9 @@ mod sweep;
 mod views;
 mod worker;
 
+pub use connection::TimeoutArgs;
 pub use error::ApiError;
+pub use guard::AccessArgs;
 pub use routes::{app, routes, AppState, HttpLimits, HEAVY_AT_ONCE};
 pub use worker::{WorkerConfig, Workers};
 
@@ -90,6 +94,10 @@ pub struct ServeArgs {
     /// Largest checkpoint stored, MB (about 116 bytes a particle): a larger job stores none.
     #[arg(long, env = "CRUSH_CHECKPOINT_MAX_MB", default_value_t = 256)]
     pub checkpoint_max_mb: u64,
+    #[command(flatten)]
+    pub access: AccessArgs,
+    #[command(flatten)]
+    pub timeouts: TimeoutArgs,
 }
 
 impl ServeArgs {
@@ -122,6 +130,8 @@ impl ServeArgs {
 pub struct Server {
     /// The address it listens on.
     pub addr: SocketAddr,
+    /// Who may do what, in words.
+    pub access: String,
     shutdown: watch::Sender<bool>,
     workers: Arc<Workers>,
     task: Option<tokio::task::JoinHandle<anyhow::Result<()>>>,
@@ -169,6 +179,15 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         "--stale-after-s must be at least two heartbeats (--heartbeat-ms)"
     );
     anyhow::ensure!(args.max_attempts >= 1, "--max-attempts must be at least 1");
+    let timeouts = args.timeouts.timeouts()?;
+    let guard = Arc::new(guard::Guard::new(&args.access)?);
+    anyhow::ensure!(
+        guard.has_tokens() || args.access.allow_anonymous_remote || is_loopback(&args.host),
+        "--host {} is not a loopback address and there is no --token-file: anyone who can \
+         reach the port could read, submit and cancel every job. Give a token file, or \
+         --allow-anonymous-remote to serve so anyway",
+        args.host
+    );
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = match args.threads_per_job {
         0 => (cores / args.concurrent_jobs.max(1)).max(1),
@@ -218,6 +237,8 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         max_sse_clients: args.max_sse_clients,
         keep_alive,
         sse_poll: Duration::from_secs(2),
+        min_download_rate: timeouts.min_download_rate,
+        body_timeout: timeouts.body,
     };
     let state = AppState {
         store: store.clone(),
@@ -227,19 +248,15 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
         heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
         shutdown: shutdown_rx.clone(),
+        guard: guard.clone(),
     };
     let mut handles = workers.spawn();
     handles.extend(cluster::start(&store, &hub, &workers, shutdown_rx.clone()));
     let router = app(state);
     let drain = workers.clone();
-    let mut down = shutdown_rx;
+    let down = shutdown_rx;
     let task = tokio::spawn(async move {
-        let until = async move {
-            let _ = down.wait_for(|d| *d).await;
-        };
-        let served = axum::serve(bare_errors::ProblemListener(listener), router)
-            .with_graceful_shutdown(until)
-            .await;
+        connection::serve(listener, router, timeouts, down).await;
         tracing::info!("shutting down: waiting for running jobs");
         drain.drain(grace).await;
         for handle in handles {
@@ -247,15 +264,27 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         }
         store.close().await;
         tracing::info!("stopped");
-        served.context("serving HTTP")
+        Ok(())
     });
     tracing::info!(%addr, threads_per_job = threads, concurrent_jobs = args.concurrent_jobs, "crush listening");
+    tracing::info!("access: {}", guard.describe());
     Ok(Server {
         addr,
+        access: guard.describe(),
         shutdown,
         workers,
         task: Some(task),
     })
+}
+
+/// Whether `--host` names only this machine: a loopback address, or `localhost`.
+fn is_loopback(host: &str) -> bool {
+    host.eq_ignore_ascii_case("localhost")
+        || host
+            .trim_start_matches('[')
+            .trim_end_matches(']')
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback())
 }
 
 /// The host name and the process id: unique among nodes on different hosts, and among
@@ -282,6 +311,7 @@ pub async fn serve(args: ServeArgs) -> anyhow::Result<()> {
     let server = start(args).await?;
     // Scripts and tests read the port from this line when they asked for port 0.
     println!("crush listening on http://{}", server.addr);
+    println!("access: {}", server.access);
     use std::io::Write;
     let _ = std::io::stdout().flush();
     let trigger = server.trigger();

@@ -62,6 +62,8 @@ pub struct JobView {
     pub attempts: i64,
     /// The node that runs the job, or that ran its last claim; null before the first claim.
     pub node: Option<String>,
+    /// The name of the token that submitted the job; null on a server without tokens.
+    pub owner: Option<String>,
     pub cancel_requested: bool,
     pub particles: i64,
     pub progress: Option<Value>,
@@ -91,6 +93,7 @@ impl JobView {
             finished_at: r.finished_at.map(rfc3339),
             attempts: r.attempts,
             node: r.node.clone(),
+            owner: r.owner.clone(),
             cancel_requested: r.cancel_requested,
             particles: r.particles,
             progress: json(r.progress_json.as_deref()),

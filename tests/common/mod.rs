@@ -112,9 +112,14 @@ impl TestApp {
         self.client.get(self.at(path)).send().await.unwrap()
     }
 
-    /// `POST path` with no body, whatever the answer.
+    /// `POST path` with an empty JSON body (a cancel), whatever the answer.
     pub async fn post(&self, path: &str) -> reqwest::Response {
-        self.client.post(self.at(path)).send().await.unwrap()
+        self.client
+            .post(self.at(path))
+            .header("content-type", "application/json")
+            .send()
+            .await
+            .unwrap()
     }
 
     /// `POST path` with a JSON body, whatever the answer.

@@ -1,13 +1,14 @@
 //! `/v1/jobs`: submit, list, read and cancel (what a succeeded job leaves is in `results`).
 
-use super::{json_text, parse_id, AppState, HttpLimits};
+use super::{body_error, json_text, parse_id, AppState, HttpLimits};
 use crate::service::error::ApiError;
+use crate::service::guard::Caller;
 use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
 use crate::solver::{case::spec_from_json, Case};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
@@ -81,13 +82,15 @@ fn accepted(view: JobView, replayed: bool) -> Response {
 
 pub async fn submit(
     State(s): State<AppState>,
+    Extension(caller): Extension<Caller>,
     headers: HeaderMap,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let key = idempotency_key(&headers)?;
     let job = prepare(&text, &s.limits, key)?;
-    match s.store.submit(job, s.limits.max_queue).await? {
+    let owner = caller.name.as_deref();
+    match s.store.submit_owned(job, owner, s.limits.max_queue).await? {
         Submitted::Created(r) => {
             s.workers.notify();
             Ok(accepted(JobView::new(&r, true), false))
@@ -198,11 +201,36 @@ pub async fn get(
     Ok(Json(JobView::new(&record, true)))
 }
 
+/// Cancels a job: its submitter or an admin may. The body is empty or `{}`.
 pub async fn cancel(
     State(s): State<AppState>,
+    Extension(caller): Extension<Caller>,
     Path(id): Path<String>,
+    body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
     let uuid = parse_id(&id, "job")?;
+    no_fields(body, s.limits.max_body_bytes)?;
+    if caller.role < crate::service::guard::Role::Admin {
+        let record = s
+            .store
+            .job(uuid)
+            .await?
+            .ok_or_else(|| ApiError::job_not_found(&id))?;
+        // The owner of a job never changes, so this holds when the cancel below runs.
+        if !caller.may_cancel(record.owner.as_deref()) {
+            return Err(ApiError::Forbidden {
+                detail: format!(
+                    "job {id} was submitted by {}; the token {} may cancel only its own jobs \
+                     (an admin token may cancel any)",
+                    record
+                        .owner
+                        .as_deref()
+                        .unwrap_or("a client without a token"),
+                    caller.name.as_deref().unwrap_or("?")
+                ),
+            });
+        }
+    }
     match s.store.cancel(uuid).await? {
         CancelOutcome::NotFound => Err(ApiError::job_not_found(&id)),
         CancelOutcome::Finished(status) => Err(ApiError::Conflict {
@@ -222,6 +250,23 @@ pub async fn cancel(
             };
             Ok((StatusCode::ACCEPTED, Json(body)).into_response())
         }
+    }
+}
+
+/// A body that is empty or the empty JSON object: what a cancel takes.
+fn no_fields(body: Result<Bytes, BytesRejection>, limit: usize) -> Result<(), ApiError> {
+    let bytes = body.map_err(|e| body_error(e, limit))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let empty = text.trim().is_empty()
+        || serde_json::from_str::<serde_json::Map<String, serde_json::Value>>(&text)
+            .is_ok_and(|m| m.is_empty());
+    if empty {
+        Ok(())
+    } else {
+        Err(ApiError::bad_request(
+            "a cancel takes no fields: send an empty body or {}",
+            None,
+        ))
     }
 }
 

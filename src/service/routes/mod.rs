@@ -6,11 +6,14 @@ mod jobs;
 mod misc;
 mod page;
 mod results;
+mod session;
 mod sweeps;
 
 pub use results::HEAVY_AT_ONCE;
 
+use super::connection::{body_deadline, BodyTimedOut};
 use super::error::{ApiError, PROBLEM_JSON};
+use super::guard::{self, Guard};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
@@ -39,6 +42,10 @@ pub struct HttpLimits {
     /// How often an SSE stream re-reads the job from the store (catches what the hub cannot:
     /// jobs run by another process).
     pub sse_poll: Duration,
+    /// Slowest average a heavy download may be taken at, bytes a second (0: any).
+    pub min_download_rate: u64,
+    /// Longest a request body may take to arrive whole.
+    pub body_timeout: Duration,
 }
 
 /// What every handler can reach.
@@ -55,6 +62,8 @@ pub struct AppState {
     pub heavy: Arc<Semaphore>,
     /// Becomes true when the server shuts down; open SSE streams end then.
     pub shutdown: watch::Receiver<bool>,
+    /// Who may do what.
+    pub guard: Arc<Guard>,
 }
 
 /// The routes: method, path, handler.
@@ -78,6 +87,13 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
         ("GET", "/v1/sweeps/{id}", get(sweeps::get)),
+        ("GET", "/v1/session", get(session::show)),
+        ("POST", "/v1/session", post(session::sign_in)),
+        (
+            "DELETE",
+            "/v1/session",
+            axum::routing::delete(session::sign_out),
+        ),
     ]
 }
 
@@ -89,6 +105,8 @@ pub fn routes() -> Vec<(&'static str, &'static str)> {
 /// The whole HTTP application.
 pub fn app(state: AppState) -> Router {
     let limit = state.limits.max_body_bytes;
+    let body_timeout = state.limits.body_timeout;
+    let guard = state.guard.clone();
     let mut router = Router::new();
     for (_, path, handler) in table() {
         router = router.route(path, handler);
@@ -96,7 +114,10 @@ pub fn app(state: AppState) -> Router {
     router
         .fallback(no_route)
         .layer(DefaultBodyLimit::max(limit))
+        .layer(middleware::from_fn_with_state(body_timeout, body_deadline))
+        .layer(middleware::from_fn_with_state(guard, guard::check))
         .layer(middleware::map_response(problem_everywhere))
+        .layer(middleware::map_response(guard::security_headers))
         .layer(tower_http::trace::TraceLayer::new_for_http())
         .with_state(state)
 }
@@ -130,8 +151,10 @@ async fn problem_everywhere(response: Response) -> Response {
     };
     let mut problem = error.into_response();
     *problem.status_mut() = status;
-    if let Some(allow) = parts.headers.get(header::ALLOW) {
-        problem.headers_mut().insert(header::ALLOW, allow.clone());
+    for name in [header::ALLOW, header::RETRY_AFTER, header::WWW_AUTHENTICATE] {
+        if let Some(value) = parts.headers.get(&name) {
+            problem.headers_mut().insert(name, value.clone());
+        }
     }
     problem
 }
@@ -154,15 +177,23 @@ pub(crate) fn json_text(
         Some(e) => return Err(ApiError::UnsupportedMediaType(e.to_string())),
         None => return Err(ApiError::UnsupportedMediaType("(none)".into())),
     }
-    let bytes = body.map_err(|e| {
-        if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
-            ApiError::TooLarge { limit }
-        } else {
-            ApiError::bad_request(format!("could not read the body: {e}"), None)
-        }
-    })?;
+    let bytes = body.map_err(|e| body_error(e, limit))?;
     String::from_utf8(bytes.to_vec())
         .map_err(|_| ApiError::bad_request("the body is not UTF-8", None))
+}
+
+/// Why a request body could not be read: it came too late (408), is over `limit` (413), or
+/// broke off (400).
+pub(crate) fn body_error(e: BytesRejection, limit: usize) -> ApiError {
+    if let Some(late) = BodyTimedOut::within(&e) {
+        ApiError::BodyTimeout {
+            seconds: late.seconds,
+        }
+    } else if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+        ApiError::TooLarge { limit }
+    } else {
+        ApiError::bad_request(format!("could not read the body: {e}"), None)
+    }
 }
 
 /// Whether the client asked for CSV, by `Accept` or by `?format=csv`.

@@ -4,12 +4,13 @@
 
 use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
 use crate::plot::{self, Series};
+use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
 use crate::solver::scene::{lattice_positions, symmetry_note};
 use crate::solver::{Case, HistoryRow, Limits};
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 use futures::StreamExt;
@@ -127,6 +128,7 @@ pub async fn shape_png(
 pub async fn state_vtu(
     State(s): State<AppState>,
     Path(id): Path<String>,
+    connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
     let permit = heavy_permit(&s).await?;
     let (_, case, state) = final_state(&s, &id, "VTU file").await?;
@@ -149,6 +151,7 @@ pub async fn state_vtu(
         }
     });
     let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
+    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
     let disposition = format!("attachment; filename=\"{id}.vtu\"");
     Ok(file_response(
         "application/xml",
@@ -158,14 +161,25 @@ pub async fn state_vtu(
     ))
 }
 
-/// A turn at building a large answer (held until it is sent, where the body is streamed).
+/// A turn at building a large answer (held until it is sent, where the body is streamed);
+/// 503 after [`HEAVY_WAIT`] without one.
 async fn heavy_permit(s: &AppState) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
-    s.heavy
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(ApiError::internal)
+    match tokio::time::timeout(HEAVY_WAIT, s.heavy.clone().acquire_owned()).await {
+        Ok(permit) => permit.map_err(ApiError::internal),
+        Err(_) => Err(ApiError::Unavailable {
+            detail: format!(
+                "every download slot ({HEAVY_AT_ONCE}) has been busy for {} s; try again later",
+                HEAVY_WAIT.as_secs()
+            ),
+            retry_after_s: 5,
+        }),
+    }
 }
+
+/// Longest a download waits for its turn. A slot is freed within `--write-timeout-s` of its
+/// client no longer reading, or once its client takes it slower than
+/// `--min-download-bytes-per-s`.
+const HEAVY_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
 
 /// Downloads built from a final state at a time; the rest wait their turn. Two: each build
 /// holds about 56 B a particle, and with four the allocator kept 147 MB after 20 downloads of
@@ -228,6 +242,7 @@ pub async fn history(
     Path(id): Path<String>,
     Query(q): Query<FormatParams>,
     headers: HeaderMap,
+    connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
     let csv = wants_csv(&headers, q.format.as_deref())?;
     let record = succeeded(&s, &id, "its history is stored when it succeeds").await?;
@@ -257,12 +272,9 @@ pub async fn history(
         ("application/json", None, bytes)
     };
     drop(rows);
-    Ok(file_response(
-        content_type,
-        disposition,
-        None,
-        chunked(bytes, permit),
-    ))
+    let body = chunked(bytes, permit);
+    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    Ok(file_response(content_type, disposition, None, body))
 }
 
 /// `bytes` as a body sent in [`CHUNK`]s, holding `permit` until the body is dropped (sent whole

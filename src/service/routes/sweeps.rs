@@ -4,13 +4,14 @@
 use super::jobs::prepare;
 use super::{csv_response, json_text, parse_id, wants_csv, AppState, FormatParams};
 use crate::service::error::ApiError;
+use crate::service::guard::Caller;
 use crate::service::store::{NewSweep, SweepSubmitted};
 use crate::service::sweep::{expand, parameters, SweepRequest};
 use crate::service::views::SweepView;
 use crate::solver::FieldError;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
@@ -19,6 +20,7 @@ use uuid::Uuid;
 
 pub async fn create(
     State(s): State<AppState>,
+    Extension(caller): Extension<Caller>,
     headers: HeaderMap,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
@@ -91,6 +93,7 @@ pub async fn create(
         base_json: req.base.to_string(),
         parameters_json,
         jobs,
+        owner: caller.name,
     };
     match s.store.create_sweep(sweep, s.limits.max_queue).await? {
         SweepSubmitted::Created(record, jobs) => {

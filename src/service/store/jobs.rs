@@ -53,8 +53,20 @@ pub enum CancelOutcome {
 }
 
 impl Store {
-    /// Inserts a job unless the queue is full or the idempotency key was used before.
+    /// Inserts a job with no owner (a server without tokens) unless the queue is full or the
+    /// idempotency key was used before.
     pub async fn submit(&self, job: NewJob, max_queue: u64) -> Result<Submitted> {
+        self.submit_owned(job, None, max_queue).await
+    }
+
+    /// Inserts a job submitted by the token named `owner`, unless the queue is full or the
+    /// idempotency key was used before.
+    pub async fn submit_owned(
+        &self,
+        job: NewJob,
+        owner: Option<&str>,
+        max_queue: u64,
+    ) -> Result<Submitted> {
         let mut tx = self.write_submit().await?;
         if let Some(key) = &job.idempotency_key {
             let seen: Option<(String, String)> =
@@ -78,7 +90,7 @@ impl Store {
         if depth as u64 >= max_queue {
             return Ok(Submitted::QueueFull { depth });
         }
-        insert_job(&mut tx, &job, None).await?;
+        insert_job(&mut tx, &job, owner, None).await?;
         tx.commit().await?;
         let record = self.job(job.id).await?;
         record
@@ -219,16 +231,18 @@ pub(super) async fn queue_depth(tx: &mut Transaction<'static, Any>) -> Result<i6
     Ok(n)
 }
 
-/// Inserts a queued job; `sweep` is (sweep id, index, swept values as JSON).
+/// Inserts a queued job submitted by `owner`; `sweep` is (sweep id, index, swept values as
+/// JSON).
 pub(super) async fn insert_job(
     tx: &mut Transaction<'static, Any>,
     job: &NewJob,
+    owner: Option<&str>,
     sweep: Option<(Uuid, i64, &str)>,
 ) -> Result<()> {
     sqlx::query(
         "INSERT INTO jobs (id, status, label, case_json, particles, idempotency_key, sweep_id, \
-         sweep_index, sweep_values_json, created_at) \
-         VALUES ($1, 'queued', $2, $3, $4, $5, $6, $7, $8, $9)",
+         sweep_index, sweep_values_json, created_at, owner) \
+         VALUES ($1, 'queued', $2, $3, $4, $5, $6, $7, $8, $9, $10)",
     )
     .bind(job.id.to_string())
     .bind(&job.label)
@@ -239,6 +253,7 @@ pub(super) async fn insert_job(
     .bind(sweep.map(|s| s.1))
     .bind(sweep.map(|s| s.2))
     .bind(now_ms())
+    .bind(owner)
     .execute(&mut **tx)
     .await?;
     Ok(())

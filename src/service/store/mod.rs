@@ -145,6 +145,8 @@ pub struct JobRecord {
     pub node: Option<String>,
     /// Where its checkpoint stands, while it has one: a requeued job resumes there.
     pub checkpoint: Option<CheckpointMark>,
+    /// The name of the token that submitted it; `None` without tokens.
+    pub owner: Option<String>,
     /// The run's summary, once it succeeded: read back typed, so that a field the solver
     /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
     pub summary: Option<Summary>,
@@ -358,7 +360,7 @@ pub fn now_ms() -> i64 {
 /// The columns every job query selects ([`job_from_row`] reads them by name).
 const JOB_COLUMNS: &str = "j.seq, j.id, j.status, j.label, j.case_json, j.particles, j.sweep_id, \
      j.sweep_values_json, j.created_at, j.started_at, j.finished_at, j.attempts, \
-     j.cancel_requested, j.progress_json, j.error, j.worker, j.checkpoint_step, \
+     j.cancel_requested, j.progress_json, j.error, j.worker, j.owner, j.checkpoint_step, \
      j.checkpoint_fraction, j.checkpoint_at, s.summary_json";
 
 /// `FROM` clause matching [`JOB_COLUMNS`].
@@ -400,6 +402,7 @@ fn job_from_row(row: &sqlx::any::AnyRow) -> Result<JobRecord> {
             }),
             _ => None,
         },
+        owner: row.try_get("owner")?,
         summary: read_summary(&id, row.try_get("summary_json")?)?,
     })
 }

@@ -14,6 +14,8 @@ pub struct NewSweep {
     pub parameters_json: String,
     /// Each job with its swept values as a JSON object.
     pub jobs: Vec<(NewJob, String)>,
+    /// The name of the token that submitted the sweep, stored as each job's owner.
+    pub owner: Option<String>,
 }
 
 /// A sweep as stored.
@@ -55,7 +57,8 @@ impl Store {
         .execute(&mut *tx)
         .await?;
         for (index, (job, values)) in sweep.jobs.iter().enumerate() {
-            insert_job(&mut tx, job, Some((sweep.id, index as i64, values))).await?;
+            let at = Some((sweep.id, index as i64, values.as_str()));
+            insert_job(&mut tx, job, sweep.owner.as_deref(), at).await?;
         }
         tx.commit().await?;
         let (record, jobs) = self

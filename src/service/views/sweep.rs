@@ -337,6 +337,7 @@ mod tests {
             error: None,
             node: None,
             checkpoint: None,
+            owner: None,
             summary,
         };
         let sweep = SweepRecord {
