@@ -3,13 +3,14 @@
 
 mod bare_errors;
 mod cluster;
+mod cpu;
 mod error;
 mod form;
 pub mod hub;
 mod routes;
 pub mod state;
 pub mod store;
-mod sweep;
+pub mod sweep;
 mod views;
 mod worker;
 
@@ -210,6 +211,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         limits: Arc::new(limits),
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
         heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
+        cpu: cpu::CpuGate::new(cpu::CPU_AT_ONCE, cpu::CPU_WAIT),
         shutdown: shutdown_rx.clone(),
     };
     let mut handles = workers.spawn();

@@ -5,7 +5,9 @@
 //! E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the density is our assumption, the
 //! source gives none; rigid PVC lies between 1300 and 1450 kg/m³).
 
+use super::input::{clip_quoted, object, object_from_str};
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 use std::fmt;
 
 /// Whole case as written by a user. Every section and field may be omitted.
@@ -15,12 +17,19 @@ pub struct CaseSpec {
     /// Free text carried along with the case (not used by the physics).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub label: Option<String>,
+    #[serde(deserialize_with = "object")]
     pub tube: Tube,
+    #[serde(deserialize_with = "object")]
     pub material: Material,
+    #[serde(deserialize_with = "object")]
     pub loading: Loading,
+    #[serde(deserialize_with = "object")]
     pub contact: Contact,
+    #[serde(deserialize_with = "object")]
     pub discretization: Discretization,
+    #[serde(deserialize_with = "object")]
     pub trigger: Trigger,
+    #[serde(deserialize_with = "object")]
     pub output: Output,
 }
 
@@ -661,29 +670,55 @@ impl Case {
     }
 }
 
-/// JSON text → spec, naming the field of a type error or an unknown field. The text must be
-/// one JSON object and nothing after it: serde would read a struct from an array (`[]` is then
-/// the default case) and stop before trailing text.
-pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
-    if !text.trim_start().starts_with('{') {
-        return Err(CaseError::Malformed {
-            field: None,
-            message: "a case must be a JSON object".into(),
-        });
+/// Every field a case can set, as dotted paths (`tube.thickness_mm`, `label`).
+pub fn field_paths() -> Vec<String> {
+    // Every optional field filled in, so that the serialized case names it.
+    let mut full = CaseSpec {
+        label: Some(String::new()),
+        ..CaseSpec::default()
+    };
+    full.loading.crush_distance_mm = Some(0.0);
+    full.loading.ramp_mm = Some(0.0);
+    full.discretization.shape = Some(ShapeKind::Gimp);
+    let Ok(Value::Object(sections)) = serde_json::to_value(&full) else {
+        unreachable!("a case serializes to an object")
+    };
+    let mut paths = Vec::new();
+    for (name, value) in sections {
+        match value {
+            Value::Object(fields) => paths.extend(fields.keys().map(|f| format!("{name}.{f}"))),
+            _ => paths.push(name),
+        }
     }
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let spec = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
+    paths
+}
+
+/// JSON text → spec, naming the field of a type error, an unknown field or a key given twice.
+/// The text must be one JSON object and nothing after it: serde would read a struct from an
+/// array (`[]` is then the default case) and stop before trailing text.
+pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
+    spec_from_value(&Value::Object(object_from_json(text)?))
+}
+
+/// JSON text → the one object it holds, every key once ([`object_from_str`]), as a case error.
+pub fn object_from_json(text: &str) -> Result<serde_json::Map<String, Value>, CaseError> {
+    object_from_str(text).map_err(|e| CaseError::Malformed {
+        field: e.field,
+        message: e.message,
+    })
+}
+
+/// A JSON value (read strictly, see [`object_from_json`]) → spec, naming the field of a type
+/// error or an unknown field; what the message quotes of the client's text is clipped.
+pub fn spec_from_value(value: &Value) -> Result<CaseSpec, CaseError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         CaseError::Malformed {
-            field: (path != "." && !path.is_empty()).then_some(path),
-            message: e.inner().to_string(),
+            field: (path != "." && !path.is_empty())
+                .then(|| super::input::clip(&path).into_owned()),
+            message: clip_quoted(&e.inner().to_string()),
         }
-    })?;
-    de.end().map_err(|e| CaseError::Malformed {
-        field: None,
-        message: format!("text after the case: {e}"),
-    })?;
-    Ok(spec)
+    })
 }
 
 /// c = √(E(1−ν) / ((1+ν)(1−2ν)ρ)) in m/s, from E in MPa and ρ in kg/m³.
