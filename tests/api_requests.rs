@@ -106,6 +106,34 @@ async fn sweeps_over_15000_and_50000_fields_are_refused_at_once_and_healthz_answ
     healthz_within(&app, Duration::from_secs(3)).await;
 }
 
+/// A crush of 1e-3 mm of the README's tube succeeded with a mean load of 650 737 N (1e-100 mm:
+/// 6.5e102 N; 1e-200 mm failed after running, with a non-finite load). Now each is 422 naming
+/// crush_distance_mm and the shortest crush the grid resolves, from every route.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn crush_distance_mm_1e_3_is_422_with_the_shortest_crush_the_grid_resolves() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    for crush in [1e-3, 1e-100, 1e-200] {
+        let mut case = tiny_case();
+        case["loading"]["crush_distance_mm"] = json!(crush);
+        for route in ["/v1/jobs", "/v1/estimate"] {
+            let (status, p, _) = answer(app.post_json(route, &case).await).await;
+            assert_eq!(status, 422, "{route} {crush}: {p}");
+            assert_eq!(fields(&p), ["loading.crush_distance_mm"], "{p}");
+            let reason = p["errors"][0]["reason"].as_str().unwrap();
+            assert!(reason.contains("at least 0.0818 mm"), "{reason}");
+        }
+        let sweep = json!({"base": tiny_case(),
+                           "parameters": {"loading.crush_distance_mm": [1, crush]}});
+        let (status, p, _) = answer(app.post_json("/v1/sweeps", &sweep).await).await;
+        assert_eq!(status, 422, "{p}");
+        assert_eq!(fields(&p), ["loading.crush_distance_mm"], "{p}");
+    }
+    // The test cases themselves pass the rule.
+    for case in [tiny_case(), medium_case(), long_case()] {
+        app.estimate(&case).await;
+    }
+}
+
 /// `"discretization":[1,2]` and `"output":[20,false]` were read by position; a section is
 /// read from an object only, and an array is 400 naming it, in a case and in a sweep's base.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
