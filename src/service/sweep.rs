@@ -432,6 +432,25 @@ mod tests {
     }
 
     #[test]
+    fn the_contract_names_exactly_the_fields_a_sweep_may_vary() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
+        let doc: serde_yaml::Value =
+            serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let names = &doc["components"]["schemas"]["SweepRequest"]["properties"]["parameters"]
+            ["propertyNames"]["enum"];
+        let mut contract: Vec<String> = names
+            .as_sequence()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap().to_string())
+            .collect();
+        let mut fields = field_paths();
+        contract.sort();
+        fields.sort();
+        assert_eq!(contract, fields);
+    }
+
+    #[test]
     fn a_sweep_label_longer_than_a_case_label_is_named() {
         let req = request(json!({"label": "x".repeat(201), "parameters": {"label": ["a"]}}));
         let errors = parameters(&req, 100).unwrap_err();
