@@ -135,7 +135,8 @@ async fn crush_distance_mm_1e_3_is_422_with_the_shortest_crush_the_grid_resolves
 }
 
 /// `"discretization":[1,2]` and `"output":[20,false]` were read by position; a section is
-/// read from an object only, and an array is 400 naming it, in a case and in a sweep's base.
+/// read from an object only, and an array is refused naming it, in a case (400) and in a
+/// sweep's base (422).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_section_sent_as_an_array_is_400_naming_the_section() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -151,10 +152,12 @@ async fn a_section_sent_as_an_array_is_400_naming_the_section() {
             assert_eq!(p["field"], section, "{p}");
             assert!(p["detail"].as_str().unwrap().contains("expected an object"));
         }
+        // The contract takes any object as a sweep's base: what is wrong with it is a 422.
         let sweep = json!({"base": case, "parameters": {"tube.length_mm": [8, 9]}});
         let (status, p, _) = answer(app.post_json("/v1/sweeps", &sweep).await).await;
-        assert_eq!(status, 400, "{p}");
-        assert_eq!(p["field"], format!("base.{section}"), "{p}");
+        assert_eq!(status, 422, "{p}");
+        assert_eq!(fields(&p), [format!("base.{section}")], "{p}");
+        assert!(p["detail"].as_str().unwrap().contains("expected an object"));
     }
     // Nothing was stored.
     let list = get_json(&app.client, &app.at("/v1/jobs")).await;

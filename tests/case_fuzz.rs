@@ -187,12 +187,16 @@ fn case_text() -> impl Strategy<Value = (String, String)> {
         "output",
     ];
     (case(), 0..sections.len(), any::<bool>()).prop_map(move |(mut c, i, twice)| {
-        // Integers out of range would be the first malformation found: leave them out.
+        // Integers out of range and numbers past f64 (null) would be the first malformation
+        // found: leave them out.
         c["discretization"]
             .as_object_mut()
             .unwrap()
             .remove("particles_through_thickness");
         c["trigger"].as_object_mut().unwrap().remove("seed");
+        for section in c.as_object_mut().unwrap().values_mut() {
+            section.as_object_mut().unwrap().retain(|_, v| !v.is_null());
+        }
         let section = sections[i];
         let inner = c[section].as_object().cloned().unwrap_or_default();
         if twice {

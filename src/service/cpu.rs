@@ -10,8 +10,10 @@ use std::sync::Arc;
 use std::time::Duration;
 use tokio::sync::Semaphore;
 
-/// Request handlers' CPU work at once. Two: on the two-core machines this server runs on, the
-/// runtime's threads keep answering (`/healthz`, event streams) whatever the requests.
+/// Request handlers' CPU work at once. Two: a sweep and the estimates of a form being typed
+/// in go on together, and however many requests come, their checks take at most two cores'
+/// time from the solver (the runtime's threads, which hold none of this work, answer
+/// `/healthz` and the event streams meanwhile).
 pub const CPU_AT_ONCE: usize = 2;
 
 /// How long a request waits for a turn before it is answered 503.

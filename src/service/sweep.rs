@@ -3,7 +3,8 @@
 //! in, cases out; the route stores them.
 //!
 //! Everything a sweep can cost is bounded before the first combination is built: the body is
-//! one object with every key once; the base must read as a case (names and types); each
+//! one object with every key once (else 400); the base must read as a case (names and types,
+//! else 422 naming where); each
 //! parameter must name a field of the case (so it is one or two segments deep, and there are
 //! at most as many parameters as fields); its values must be a non-empty list of plain values;
 //! and the combinations must number at most the server's `--max-sweep-jobs`. Combinations are
@@ -36,7 +37,7 @@ fn empty_object() -> Value {
     Value::Object(Map::new())
 }
 
-/// The body's text → a request whose base reads as a case, or where and why not (a 400).
+/// The body's text → a request, or where and why not (a 400).
 pub fn read(text: &str) -> Result<SweepRequest, JsonError> {
     let body = object_from_str(text)?;
     let req: SweepRequest = serde_path_to_error::deserialize(Value::Object(body)).map_err(|e| {
@@ -50,14 +51,6 @@ pub fn read(text: &str) -> Result<SweepRequest, JsonError> {
         return Err(JsonError {
             field: Some("base".into()),
             message: "must be a case object".into(),
-        });
-    }
-    // The base's names and types, once: every combination is a copy of it.
-    if let Err(crate::solver::CaseError::Malformed { field, message }) = spec_from_value(&req.base)
-    {
-        return Err(JsonError {
-            field: Some(field.map_or_else(|| "base".into(), |f| format!("base.{f}"))),
-            message,
         });
     }
     Ok(req)
@@ -101,6 +94,12 @@ pub enum Refusal {
 /// why not. At most `max_jobs` combinations.
 pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusal> {
     let req = read(text).map_err(Refusal::Malformed)?;
+    // The base's names and types, once: every combination is a copy of it. (The contract
+    // takes any object as a base, so what is wrong with it is a 422, as for a combination.)
+    if let Err(CaseError::Malformed { field, message }) = spec_from_value(&req.base) {
+        let field = field.map_or_else(|| "base".into(), |f| format!("base.{f}"));
+        return Err(Refusal::Invalid(vec![fail(&field, &message)]));
+    }
     let params = parameters(&req, max_jobs).map_err(Refusal::Invalid)?;
     let mut base = req.base.clone();
     if let (Some(label), Some(object)) = (&req.label, base.as_object_mut()) {
@@ -423,12 +422,19 @@ mod tests {
                 json!({"tube": {"thickness_mm": "x"}}),
                 "base.tube.thickness_mm",
             ),
-            (json!([]), "base"),
         ] {
             let text = json!({"base": base, "parameters": {"tube.length_mm": [1]}});
-            let e = read(&text.to_string()).unwrap_err();
-            assert_eq!(e.field.as_deref(), Some(field), "{base}: {e:?}");
+            match plan(&text.to_string(), &Limits::default(), 100) {
+                Err(Refusal::Invalid(errors)) => {
+                    assert_eq!(errors.len(), 1, "{errors:?}");
+                    assert_eq!(errors[0].field, field, "{base}");
+                }
+                other => panic!("{base}: {other:?}"),
+            }
         }
+        let text = json!({"base": [], "parameters": {"tube.length_mm": [1]}});
+        let e = read(&text.to_string()).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("base"));
     }
 
     #[test]
