@@ -108,8 +108,8 @@ async fn last_event_id_5000000_on_a_running_job_still_gets_the_final_event_and_t
     assert_eq!(status, 204);
 }
 
-/// A running job's stream opened with two identical `status` events: the state read from the
-/// store, then the worker's own `running` event from the replay. They are one event now.
+/// A running job's stream opens with one `status` event: the state it reads from the store and
+/// the worker's own `running` event in the replay are one event with one id.
 #[tokio::test]
 async fn a_running_jobs_stream_opens_with_one_status_event() {
     let app = TestApp::start(&["--heartbeat-ms", "100"]).await;

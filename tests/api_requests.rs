@@ -50,9 +50,9 @@ async fn healthz_within(app: &TestApp, limit: Duration) {
     );
 }
 
-/// `{"parameters":{"a.a.a.…":[1]}}` with 14 000 segments (28 KB) overflowed a runtime thread's
-/// stack and aborted the server (12 000 gave 422). Now any path that is not a field of the
-/// case is 422 before anything is built from it.
+/// `{"parameters":{"a.a.a.…":[1]}}` with 14 000 segments (28 KB), and 12 000 and 60 000: a path
+/// that is not a field of the case is 422 before anything is built from it (a case nested
+/// 14 000 deep overflows a runtime thread's stack), and the server goes on answering.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn post_sweeps_with_a_14000_segment_path_is_422_and_the_server_still_answers() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -69,9 +69,9 @@ async fn post_sweeps_with_a_14000_segment_path_is_422_and_the_server_still_answe
     }
 }
 
-/// One combination over 15 000 distinct fields (214 KB) held a runtime thread for 12.6 s, and
-/// two at once made `/healthz` time out; 50 000 (700 KB) held a core for about 11 minutes.
-/// Now they are refused at once, with one error, while `/healthz` answers throughout.
+/// One combination over 15 000 distinct fields (214 KB), twice at once, and over 50 000 (700 KB):
+/// each is refused at once with one error (expanding them costs time quadratic in the fields:
+/// seconds to minutes of a thread), while `/healthz` answers throughout.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn sweeps_over_15000_and_50000_fields_are_refused_at_once_and_healthz_answers() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -106,9 +106,9 @@ async fn sweeps_over_15000_and_50000_fields_are_refused_at_once_and_healthz_answ
     healthz_within(&app, Duration::from_secs(3)).await;
 }
 
-/// A crush of 1e-3 mm of the README's tube succeeded with a mean load of 650 737 N (1e-100 mm:
-/// 6.5e102 N; 1e-200 mm failed after running, with a non-finite load). Now each is 422 naming
-/// crush_distance_mm and the shortest crush the grid resolves, from every route.
+/// A crush of 1e-3 mm of the README's tube (run anyway: a mean load of 650 737 N; 1e-100 mm:
+/// 6.5e102 N; 1e-200 mm: a non-finite load) is 422 naming crush_distance_mm and the shortest
+/// crush the grid resolves, from every route.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn crush_distance_mm_1e_3_is_422_with_the_shortest_crush_the_grid_resolves() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -134,9 +134,9 @@ async fn crush_distance_mm_1e_3_is_422_with_the_shortest_crush_the_grid_resolves
     }
 }
 
-/// `"discretization":[1,2]` and `"output":[20,false]` were read by position; a section is
-/// read from an object only, and an array is refused naming it, in a case (400) and in a
-/// sweep's base (422).
+/// `"discretization":[1,2]` and `"output":[20,false]`: a section is read from an object only,
+/// never by position, and an array is refused naming it, in a case (400) and in a sweep's
+/// base (422).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_section_sent_as_an_array_is_400_naming_the_section() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
@@ -164,7 +164,7 @@ async fn a_section_sent_as_an_array_is_400_naming_the_section() {
     assert_eq!(list["jobs"], json!([]));
 }
 
-/// Two equal keys in a sweep's `parameters` were accepted, the last one winning. A key given
+/// Two equal keys in a sweep's `parameters` (serde_json alone keeps the last one): a key given
 /// twice anywhere in a body is 400 naming it.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_key_given_twice_in_a_sweep_or_a_case_is_400_naming_it() {
@@ -204,8 +204,8 @@ async fn a_key_given_twice_in_a_sweep_or_a_case_is_400_naming_it() {
     }
 }
 
-/// An error repeated a 200 KB field name in a 400 KB answer. Whatever a client sends, an error
-/// quotes at most 100 characters of it.
+/// A 200 KB field name (which an error quoting it whole would repeat in a 400 KB answer), and
+/// long values, paths and headers: an error quotes at most 100 characters of each.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_200_kb_field_name_is_quoted_clipped_in_a_small_answer() {
     let app = TestApp::start(&["--concurrent-jobs", "0"]).await;

@@ -4,12 +4,11 @@
 //!
 //! Everything a sweep can cost is bounded before the first combination is built: the body is
 //! one object with every key once (else 400); the base must read as a case (names and types,
-//! else 422 naming where); each
-//! parameter must name a field of the case (so it is one or two segments deep, and there are
-//! at most as many parameters as fields); its values must be a non-empty list of plain values;
-//! and the combinations must number at most the server's `--max-sweep-jobs`. Combinations are
-//! then built and checked one at a time, each a copy of the base with its values set, and the
-//! check stops after [`MAX_ERRORS`] errors.
+//! else 422 naming where); each parameter must name a field of the case (so it is one or two
+//! segments deep, and there are at most as many parameters as fields); its values must be a
+//! non-empty list of plain values; and the combinations must number at most the server's
+//! `--max-sweep-jobs`. Combinations are then built and checked one at a time, each a copy of
+//! the base with its values set, and the check stops after [`MAX_ERRORS`] errors.
 
 use crate::solver::case::{field_paths, spec_from_value};
 use crate::solver::input::{clip, clip_quoted, object_from_str, JsonError};
@@ -110,17 +109,12 @@ pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusa
     let total: usize = params.iter().map(|(_, v)| v.len()).product();
     let mut jobs = Vec::with_capacity(total);
     let mut errors: Vec<FieldError> = Vec::new();
-    for (done, combo) in combinations(&base, &params).enumerate() {
+    let mut checked = 0;
+    for combo in combinations(&base, &params) {
         if errors.len() >= MAX_ERRORS {
-            errors.push(fail(
-                "parameters",
-                &format!(
-                    "the check stopped after {} errors, in {done} of {total} combinations",
-                    errors.len()
-                ),
-            ));
             break;
         }
+        checked += 1;
         let combo = combo.map_err(|e| Refusal::Invalid(vec![e]))?;
         let at = combo
             .values
@@ -150,6 +144,16 @@ pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusa
                 &format!("{message} (with {at})"),
             )),
         }
+    }
+    if errors.len() > MAX_ERRORS || (errors.len() == MAX_ERRORS && checked < total) {
+        errors.truncate(MAX_ERRORS);
+        errors.push(fail(
+            "parameters",
+            &format!(
+                "has more errors than the {MAX_ERRORS} listed: the check stopped after \
+                 {checked} of {total} combinations"
+            ),
+        ));
     }
     if !errors.is_empty() {
         return Err(Refusal::Invalid(errors));
@@ -435,6 +439,31 @@ mod tests {
         let text = json!({"base": [], "parameters": {"tube.length_mm": [1]}});
         let e = read(&text.to_string()).unwrap_err();
         assert_eq!(e.field.as_deref(), Some("base"));
+    }
+
+    #[test]
+    fn a_sweep_whose_every_combination_fails_lists_at_most_max_errors() {
+        // Each combination is over the particle limit, which names four fields or more.
+        let lengths: Vec<f64> = (0..100).map(|i| 8.0 + i as f64 / 10.0).collect();
+        let base = json!({"loading": {"crush_distance_mm": 1}, "output": {"history_points": 20}});
+        let text = json!({"base": base, "parameters": {"tube.length_mm": lengths}});
+        let limits = Limits {
+            max_particles: 10,
+            ..Limits::default()
+        };
+        let Err(Refusal::Invalid(errors)) = plan(&text.to_string(), &limits, 100) else {
+            panic!("accepted")
+        };
+        assert_eq!(errors.len(), MAX_ERRORS + 1);
+        let last = errors.last().unwrap();
+        assert_eq!(last.field, "parameters");
+        assert!(last.reason.contains("of 100 combinations"), "{last:?}");
+        // A sweep with fewer errors lists them all, with no note.
+        let text = json!({"base": base, "parameters": {"tube.length_mm": [8, 9]}});
+        let Err(Refusal::Invalid(errors)) = plan(&text.to_string(), &limits, 100) else {
+            panic!("accepted")
+        };
+        assert!(errors.len() < MAX_ERRORS && errors.iter().all(|e| e.field != "parameters"));
     }
 
     #[test]

@@ -23,18 +23,10 @@ const MAX_KEY_CHARS: usize = 200;
 const DEFAULT_PAGE: u32 = 50;
 const MAX_PAGE: u32 = 500;
 
-/// Case JSON text → a job ready to insert, or every reason it is not a case.
+/// Case JSON text (one object, every key once) → a job ready to insert, or every reason it is
+/// not a case.
 fn prepare(text: &str, limits: &HttpLimits, key: Option<String>) -> Result<NewJob, ApiError> {
-    prepare_value(Value::Object(object_from_json(text)?), limits, key)
-}
-
-/// A case read strictly (one object, every key once) → a job ready to insert, or every reason
-/// it is not a case.
-fn prepare_value(
-    case: Value,
-    limits: &HttpLimits,
-    key: Option<String>,
-) -> Result<NewJob, ApiError> {
+    let case = Value::Object(object_from_json(text)?);
     let spec = spec_from_value(&case)?;
     let label = spec.label.clone();
     let checked = Case::parse(spec, &limits.case)?;
