@@ -107,3 +107,41 @@ async fn last_event_id_5000000_on_a_running_job_still_gets_the_final_event_and_t
     let (status, _) = SseReader::open(&app.client, &url, Some(5_000_000)).await;
     assert_eq!(status, 204);
 }
+
+/// A running job's stream opens with one `status` event: the state it reads from the store and
+/// the worker's own `running` event in the replay are one event with one id.
+#[tokio::test]
+async fn a_running_jobs_stream_opens_with_one_status_event() {
+    let app = TestApp::start(&["--heartbeat-ms", "100"]).await;
+    let id = app.submit(&common::long_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    app.wait_for(&id, &["running"], Duration::from_secs(30))
+        .await;
+    let url = app.at(&format!("/v1/jobs/{id}/events"));
+    // Opened at once, and again once progress events are in the replay.
+    for _ in 0..2 {
+        let (status, mut events) = SseReader::open(&app.client, &url, None).await;
+        assert_eq!(status, 200);
+        let mut opening = Vec::new();
+        loop {
+            let e = events
+                .next(Duration::from_secs(60))
+                .await
+                .expect("a progress event follows");
+            if e.event == "progress" {
+                break;
+            }
+            opening.push((e.id, e.event.clone(), e.json()));
+        }
+        assert_eq!(opening.len(), 1, "{opening:?}");
+        assert_eq!(opening[0].1, "status");
+        assert_eq!(opening[0].2, json!({"status": "running", "attempt": 1}));
+        tokio::time::sleep(Duration::from_millis(500)).await;
+    }
+    let r = app.post(&format!("/v1/jobs/{id}/cancel")).await;
+    assert_eq!(r.status(), 202);
+    app.wait_for(&id, &["cancelled"], Duration::from_secs(30))
+        .await;
+}

@@ -218,7 +218,10 @@ impl Hub {
         }
     }
 
-    /// The sending end for claim `attempt` of a job.
+    /// The sending end for claim `attempt` of a job. Its first event (the worker's `running`
+    /// status) takes `k` = 0, the id of the `status` event a stream opens with while the job
+    /// runs (`routes::events`): the two are one event, and a stream that opened with it skips
+    /// the replayed copy, as it skips every id it has sent.
     pub fn publisher(self: &Arc<Self>, id: Uuid, attempt: i64) -> Publisher {
         let ch = self.channel(id);
         *ch.recent.lock().unwrap_or_else(|e| e.into_inner()) = Replay::default();
@@ -227,7 +230,7 @@ impl Hub {
             id,
             ch: Some(ch),
             attempt,
-            next: 1,
+            next: 0,
         }
     }
 
@@ -450,7 +453,7 @@ mod tests {
         let events: Vec<Event> = wire.into_iter().filter_map(Event::from_wire).collect();
         node_a.deliver(id, events);
         let first = sub.rx.try_recv().unwrap();
-        assert_eq!((first.id, first.name), (event_id(2, 1), "progress"));
+        assert_eq!((first.id, first.name), (event_id(2, 0), "progress"));
         assert_eq!(sub.rx.try_recv().unwrap().id, final_id(2));
         assert_eq!(sub.replay().len(), 2);
         // A relayed event of a later claim starts a new replay.

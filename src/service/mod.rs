@@ -5,6 +5,7 @@ mod bare_errors;
 mod checkpointing;
 mod cluster;
 mod connection;
+mod cpu;
 mod error;
 mod form;
 pub mod guard;
@@ -12,7 +13,7 @@ pub mod hub;
 mod routes;
 pub mod state;
 pub mod store;
-mod sweep;
+pub mod sweep;
 mod views;
 mod worker;
 
@@ -247,6 +248,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         limits: Arc::new(limits),
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
         heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
+        cpu: cpu::CpuGate::new(cpu::CPU_AT_ONCE, cpu::CPU_WAIT),
         shutdown: shutdown_rx.clone(),
         guard: guard.clone(),
     };

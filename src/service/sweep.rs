@@ -1,9 +1,24 @@
-//! Sweep expansion: a base case plus lists of values for dotted fields → one case per
-//! combination (the last field varies fastest). Pure: JSON in, JSON out.
+//! Sweeps: a base case plus lists of values for fields of the case → one checked case per
+//! combination (the last field varies fastest), or every reason there is none. Pure: JSON text
+//! in, cases out; the route stores them.
+//!
+//! Everything a sweep can cost is bounded before the first combination is built: the body is
+//! one object with every key once (else 400); the base must read as a case (names and types,
+//! else 422 naming where); each parameter must name a field of the case (so it is one or two
+//! segments deep, and there are at most as many parameters as fields); its values must be a
+//! non-empty list of plain values; and the combinations must number at most the server's
+//! `--max-sweep-jobs`. Combinations are then built and checked one at a time, each a copy of
+//! the base with its values set, and the check stops after [`MAX_ERRORS`] errors.
 
-use crate::solver::FieldError;
+use crate::solver::case::{field_paths, spec_from_value};
+use crate::solver::input::{clip, clip_quoted, object_from_str, JsonError};
+use crate::solver::{Case, CaseError, FieldError, Limits};
 use serde::Deserialize;
 use serde_json::{Map, Value};
+
+/// The longest sweep label, characters: the case's own limit, since it becomes the label of
+/// every case that names none.
+const MAX_LABEL_CHARS: usize = 200;
 
 /// The body of `POST /v1/sweeps`.
 #[derive(Debug, Clone, Deserialize)]
@@ -13,12 +28,142 @@ pub struct SweepRequest {
     pub label: Option<String>,
     #[serde(default = "empty_object")]
     pub base: Value,
-    /// Dotted field path → values, e.g. `"tube.thickness_mm": [1.27, 2.0, 3.2]`.
+    /// Field path → values, e.g. `"tube.thickness_mm": [1.27, 2.0, 3.2]`.
     pub parameters: Map<String, Value>,
 }
 
 fn empty_object() -> Value {
     Value::Object(Map::new())
+}
+
+/// The body's text → a request, or where and why not (a 400).
+pub fn read(text: &str) -> Result<SweepRequest, JsonError> {
+    let body = object_from_str(text)?;
+    let req: SweepRequest = serde_path_to_error::deserialize(Value::Object(body)).map_err(|e| {
+        let path = e.path().to_string();
+        JsonError {
+            field: (path != "." && !path.is_empty()).then(|| clip(&path).into_owned()),
+            message: clip_quoted(&e.inner().to_string()),
+        }
+    })?;
+    if !req.base.is_object() {
+        return Err(JsonError {
+            field: Some("base".into()),
+            message: "must be a case object".into(),
+        });
+    }
+    Ok(req)
+}
+
+/// Most errors a refused sweep lists: past them the check stops, and says so.
+pub const MAX_ERRORS: usize = 100;
+
+/// A sweep that passed every check, ready to store.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub label: Option<String>,
+    /// The base as sent.
+    pub base: Value,
+    /// `(field, values)` in column order.
+    pub parameters: Vec<(String, Vec<Value>)>,
+    /// One per combination, in order.
+    pub jobs: Vec<PlannedJob>,
+}
+
+/// One combination's case, checked.
+#[derive(Debug, Clone)]
+pub struct PlannedJob {
+    /// The case to store: the base with the sweep's label and this combination's values.
+    pub case: Value,
+    pub label: Option<String>,
+    pub particles: u64,
+    /// The values this combination takes from the sweep, by field.
+    pub values: Map<String, Value>,
+}
+
+/// Why a sweep was refused: its body does not read as one (400), or what it asks for makes
+/// no sense (422), with every field named.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Refusal {
+    Malformed(JsonError),
+    Invalid(Vec<FieldError>),
+}
+
+/// The body of `POST /v1/sweeps` → every combination's case, checked against `limits`, or
+/// why not. At most `max_jobs` combinations.
+pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusal> {
+    let req = read(text).map_err(Refusal::Malformed)?;
+    // The base's names and types, once: every combination is a copy of it. (The contract
+    // takes any object as a base, so what is wrong with it is a 422, as for a combination.)
+    if let Err(CaseError::Malformed { field, message }) = spec_from_value(&req.base) {
+        let field = field.map_or_else(|| "base".into(), |f| format!("base.{f}"));
+        return Err(Refusal::Invalid(vec![fail(&field, &message)]));
+    }
+    let params = parameters(&req, max_jobs).map_err(Refusal::Invalid)?;
+    let mut base = req.base.clone();
+    if let (Some(label), Some(object)) = (&req.label, base.as_object_mut()) {
+        object
+            .entry("label")
+            .or_insert_with(|| Value::String(label.clone()));
+    }
+    let total: usize = params.iter().map(|(_, v)| v.len()).product();
+    let mut jobs = Vec::with_capacity(total);
+    let mut errors: Vec<FieldError> = Vec::new();
+    let mut checked = 0;
+    for combo in combinations(&base, &params) {
+        if errors.len() >= MAX_ERRORS {
+            break;
+        }
+        checked += 1;
+        let combo = combo.map_err(|e| Refusal::Invalid(vec![e]))?;
+        let at = combo
+            .values
+            .iter()
+            .map(|(f, v)| format!("{f} = {}", clip(&v.to_string())))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let checked = spec_from_value(&combo.case).and_then(|spec| Case::parse(spec, limits));
+        match checked {
+            Ok(case) => jobs.push(PlannedJob {
+                label: case.spec().label.clone(),
+                particles: case.particle_count(),
+                case: combo.case,
+                values: combo.values,
+            }),
+            Err(CaseError::Invalid(found)) => {
+                for e in found {
+                    let e = fail(&e.field, &format!("{} (with {at})", e.reason));
+                    if !errors.contains(&e) {
+                        errors.push(e);
+                    }
+                }
+            }
+            // The base read as a case and the values are plain: a value of the wrong type.
+            Err(CaseError::Malformed { field, message }) => errors.push(fail(
+                &field.unwrap_or_else(|| "base".into()),
+                &format!("{message} (with {at})"),
+            )),
+        }
+    }
+    if errors.len() > MAX_ERRORS || (errors.len() == MAX_ERRORS && checked < total) {
+        errors.truncate(MAX_ERRORS);
+        errors.push(fail(
+            "parameters",
+            &format!(
+                "has more errors than the {MAX_ERRORS} listed: the check stopped after \
+                 {checked} of {total} combinations"
+            ),
+        ));
+    }
+    if !errors.is_empty() {
+        return Err(Refusal::Invalid(errors));
+    }
+    Ok(Plan {
+        label: req.label,
+        base: req.base,
+        parameters: params,
+        jobs,
+    })
 }
 
 /// One combination: the case and the values it takes from the sweep.
@@ -33,30 +178,57 @@ pub fn parameters(
     req: &SweepRequest,
     max_jobs: usize,
 ) -> Result<Vec<(String, Vec<Value>)>, Vec<FieldError>> {
+    let fields = field_paths();
     let mut errors = Vec::new();
-    let mut out = Vec::new();
     if req.parameters.is_empty() {
         errors.push(fail(
             "parameters",
             "must name at least one field with a list of values",
         ));
     }
+    if req.parameters.len() > fields.len() {
+        // Not one error per name: their number is bounded only by the body's size.
+        return Err(vec![fail(
+            "parameters",
+            &format!(
+                "names {} fields; a case has {} (GET /v1/case/fields lists them)",
+                req.parameters.len(),
+                fields.len()
+            ),
+        )]);
+    }
+    if req
+        .label
+        .as_ref()
+        .is_some_and(|l| l.chars().count() > MAX_LABEL_CHARS)
+    {
+        errors.push(fail(
+            "label",
+            &format!("must be at most {MAX_LABEL_CHARS} characters"),
+        ));
+    }
+    let mut out = Vec::new();
     for (field, values) in &req.parameters {
-        let name = format!("parameters.{field}");
-        if field.is_empty() || field.split('.').any(str::is_empty) {
+        let name = format!("parameters.{}", clip(field));
+        if !fields.contains(field) {
             errors.push(fail(
                 &name,
-                "must be a dotted path such as tube.thickness_mm",
+                "is not a field of the case (GET /v1/case/fields lists them, \
+                 e.g. tube.thickness_mm)",
             ));
             continue;
         }
         match values.as_array() {
-            Some(list) if !list.is_empty() => out.push((field.clone(), list.clone())),
-            _ => errors.push(fail(&name, "must be a non-empty list of values")),
+            Some(list) if list.is_empty() => {
+                errors.push(fail(&name, "must be a non-empty list of values"))
+            }
+            Some(list) if list.iter().any(|v| v.is_array() || v.is_object()) => errors.push(fail(
+                &name,
+                "must list numbers, strings, true, false or null",
+            )),
+            Some(list) => out.push((field.clone(), list.clone())),
+            None => errors.push(fail(&name, "must be a non-empty list of values")),
         }
-    }
-    if !req.base.is_object() {
-        errors.push(fail("base", "must be a case object"));
     }
     let count = out
         .iter()
@@ -74,29 +246,31 @@ pub fn parameters(
     }
 }
 
-/// Every combination of the parameters applied to `base`.
-pub fn expand(
-    base: &Value,
-    params: &[(String, Vec<Value>)],
-) -> Result<Vec<Combination>, Vec<FieldError>> {
-    let mut combos = vec![Combination {
-        case: base.clone(),
-        values: Map::new(),
-    }];
-    for (field, values) in params {
-        let mut next = Vec::with_capacity(combos.len() * values.len());
-        for combo in &combos {
-            for value in values {
-                let mut c = combo.clone();
-                set(&mut c.case, field, value.clone())
-                    .map_err(|reason| vec![fail(&format!("parameters.{field}"), &reason)])?;
-                c.values.insert(field.clone(), value.clone());
-                next.push(c);
-            }
+/// Every combination of the parameters applied to `base`, built one at a time as the iterator
+/// is read (the last parameter varies fastest).
+pub fn combinations<'a>(
+    base: &'a Value,
+    params: &'a [(String, Vec<Value>)],
+) -> impl Iterator<Item = Result<Combination, FieldError>> + 'a {
+    let count = params.iter().map(|(_, v)| v.len()).product::<usize>();
+    (0..count).map(move |mut index| {
+        let mut picks = vec![0; params.len()];
+        for (pick, (_, values)) in picks.iter_mut().zip(params).rev() {
+            *pick = index % values.len();
+            index /= values.len();
         }
-        combos = next;
-    }
-    Ok(combos)
+        let mut combo = Combination {
+            case: base.clone(),
+            values: Map::new(),
+        };
+        for ((field, values), pick) in params.iter().zip(picks) {
+            let value = &values[pick];
+            set(&mut combo.case, field, value.clone())
+                .map_err(|reason| fail(&format!("parameters.{field}"), &reason))?;
+            combo.values.insert(field.clone(), value.clone());
+        }
+        Ok(combo)
+    })
 }
 
 /// Sets the dotted `path` in `case`, making intermediate objects as needed.
@@ -136,7 +310,11 @@ mod tests {
     use serde_json::json;
 
     fn request(v: Value) -> SweepRequest {
-        serde_json::from_value(v).unwrap()
+        read(&v.to_string()).unwrap()
+    }
+
+    fn all(base: &Value, params: &[(String, Vec<Value>)]) -> Vec<Combination> {
+        combinations(base, params).map(Result::unwrap).collect()
     }
 
     #[test]
@@ -146,7 +324,7 @@ mod tests {
             "parameters": {"tube.thickness_mm": [1, 2], "output.history_points": [10, 20, 30]}
         }));
         let params = parameters(&req, 100).unwrap();
-        let combos = expand(&req.base, &params).unwrap();
+        let combos = all(&req.base, &params);
         assert_eq!(combos.len(), 6);
         // Fields in name order: output.history_points, then tube.thickness_mm (fastest).
         assert_eq!(params[0].0, "output.history_points");
@@ -155,22 +333,162 @@ mod tests {
             json!({"tube": {"length_mm": 8, "thickness_mm": 2}, "output": {"history_points": 10}})
         );
         assert_eq!(combos[3].values["tube.thickness_mm"], json!(2));
+        assert_eq!(combos[5].values["output.history_points"], json!(30));
     }
 
     #[test]
     fn too_many_combinations_and_empty_lists_are_named() {
-        let req = request(json!({"parameters": {"a.b": [1, 2, 3], "c": []}}));
+        let req = request(json!({"parameters": {
+            "tube.length_mm": [1, 2, 3], "tube.thickness_mm": []
+        }}));
         let errors = parameters(&req, 2).unwrap_err();
         let fields: Vec<_> = errors.iter().map(|e| e.field.as_str()).collect();
-        assert!(fields.contains(&"parameters.c"), "{fields:?}");
+        assert!(
+            fields.contains(&"parameters.tube.thickness_mm"),
+            "{fields:?}"
+        );
         assert!(fields.contains(&"parameters"), "{fields:?}");
     }
 
     #[test]
-    fn a_path_through_a_number_is_rejected() {
-        let req = request(json!({"base": {"tube": 3}, "parameters": {"tube.thickness_mm": [1]}}));
-        let params = parameters(&req, 10).unwrap();
-        let errors = expand(&req.base, &params).unwrap_err();
-        assert_eq!(errors[0].field, "parameters.tube.thickness_mm");
+    fn a_path_that_is_not_a_field_of_the_case_is_named_clipped() {
+        let deep = vec!["a"; 14_000].join(".");
+        let req = request(json!({"parameters": {
+            deep.clone(): [1], "tube": [1], "tube.wall": [1], "tube.thickness_mm.x": [1],
+            "label": ["a", "b"]
+        }}));
+        let errors = parameters(&req, 100).unwrap_err();
+        let fields: Vec<_> = errors.iter().map(|e| e.field.as_str()).collect();
+        for f in [
+            "parameters.tube",
+            "parameters.tube.wall",
+            "parameters.tube.thickness_mm.x",
+        ] {
+            assert!(fields.contains(&f), "{f} not in {fields:?}");
+        }
+        let clipped = format!("parameters.{}", clip(&deep));
+        assert!(fields.contains(&clipped.as_str()), "{fields:?}");
+        assert!(errors.iter().all(|e| e.field.chars().count() < 120));
+        // label is a field of the case: not named.
+        assert_eq!(errors.len(), 4, "{errors:?}");
+    }
+
+    #[test]
+    fn more_parameters_than_fields_is_one_error() {
+        let many: Map<String, Value> = (0..50_000)
+            .map(|i| (format!("f{i}.x"), json!([1])))
+            .collect();
+        let req = request(json!({ "parameters": many }));
+        let errors = parameters(&req, 100).unwrap_err();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(
+            errors[0].reason.contains("names 50000 fields"),
+            "{errors:?}"
+        );
+    }
+
+    #[test]
+    fn values_must_be_plain_values() {
+        for values in [json!([[1]]), json!([{"a": 1}]), json!(3), json!({})] {
+            let req = request(json!({"parameters": {"tube.length_mm": values}}));
+            let errors = parameters(&req, 100).unwrap_err();
+            assert_eq!(errors[0].field, "parameters.tube.length_mm", "{values}");
+        }
+        let req = request(json!({"parameters": {"tube.length_mm": [1, 2.5, "x", true, null]}}));
+        assert_eq!(parameters(&req, 100).unwrap()[0].1.len(), 5);
+    }
+
+    #[test]
+    fn a_key_given_twice_in_parameters_or_base_is_refused() {
+        for (text, field) in [
+            (
+                r#"{"parameters": {"tube.length_mm": [1], "tube.length_mm": [2]}}"#,
+                "parameters.tube.length_mm",
+            ),
+            (
+                r#"{"base": {"tube": {"length_mm": 8, "length_mm": 9}}, "parameters": {}}"#,
+                "base.tube.length_mm",
+            ),
+            (r#"{"parameters": {}, "parameters": {}}"#, "parameters"),
+        ] {
+            let e = read(text).unwrap_err();
+            assert_eq!(e.field.as_deref(), Some(field), "{text}");
+        }
+    }
+
+    #[test]
+    fn a_base_that_does_not_read_as_a_case_is_refused_at_once() {
+        for (base, field) in [
+            (json!({"tube": 3}), "base.tube"),
+            (json!({"discretization": [1, 2]}), "base.discretization"),
+            (json!({"tube": {"wall": 1}}), "base.tube.wall"),
+            (
+                json!({"tube": {"thickness_mm": "x"}}),
+                "base.tube.thickness_mm",
+            ),
+        ] {
+            let text = json!({"base": base, "parameters": {"tube.length_mm": [1]}});
+            match plan(&text.to_string(), &Limits::default(), 100) {
+                Err(Refusal::Invalid(errors)) => {
+                    assert_eq!(errors.len(), 1, "{errors:?}");
+                    assert_eq!(errors[0].field, field, "{base}");
+                }
+                other => panic!("{base}: {other:?}"),
+            }
+        }
+        let text = json!({"base": [], "parameters": {"tube.length_mm": [1]}});
+        let e = read(&text.to_string()).unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("base"));
+    }
+
+    #[test]
+    fn a_sweep_whose_every_combination_fails_lists_at_most_max_errors() {
+        // Each combination is over the particle limit, which names four fields or more.
+        let lengths: Vec<f64> = (0..100).map(|i| 8.0 + i as f64 / 10.0).collect();
+        let base = json!({"loading": {"crush_distance_mm": 1}, "output": {"history_points": 20}});
+        let text = json!({"base": base, "parameters": {"tube.length_mm": lengths}});
+        let limits = Limits {
+            max_particles: 10,
+            ..Limits::default()
+        };
+        let Err(Refusal::Invalid(errors)) = plan(&text.to_string(), &limits, 100) else {
+            panic!("accepted")
+        };
+        assert_eq!(errors.len(), MAX_ERRORS + 1);
+        let last = errors.last().unwrap();
+        assert_eq!(last.field, "parameters");
+        assert!(last.reason.contains("of 100 combinations"), "{last:?}");
+        // A sweep with fewer errors lists them all, with no note.
+        let text = json!({"base": base, "parameters": {"tube.length_mm": [8, 9]}});
+        let Err(Refusal::Invalid(errors)) = plan(&text.to_string(), &limits, 100) else {
+            panic!("accepted")
+        };
+        assert!(errors.len() < MAX_ERRORS && errors.iter().all(|e| e.field != "parameters"));
+    }
+
+    #[test]
+    fn the_contract_names_exactly_the_fields_a_sweep_may_vary() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
+        let doc: serde_yaml::Value =
+            serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let names = &doc["components"]["schemas"]["SweepRequest"]["properties"]["parameters"]
+            ["propertyNames"]["enum"];
+        let mut contract: Vec<String> = names
+            .as_sequence()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap().to_string())
+            .collect();
+        let mut fields = field_paths();
+        contract.sort();
+        fields.sort();
+        assert_eq!(contract, fields);
+    }
+
+    #[test]
+    fn a_sweep_label_longer_than_a_case_label_is_named() {
+        let req = request(json!({"label": "x".repeat(201), "parameters": {"label": ["a"]}}));
+        let errors = parameters(&req, 100).unwrap_err();
+        assert_eq!(errors[0].field, "label");
     }
 }

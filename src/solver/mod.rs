@@ -11,6 +11,7 @@ pub mod estimate;
 pub mod folds;
 pub mod grid;
 pub mod history;
+pub mod input;
 pub mod material;
 pub mod mode;
 pub mod observer;

@@ -90,7 +90,9 @@ pub async fn events(
     Ok(Sse::new(stream).into_response())
 }
 
-/// The state event a stream opens with.
+/// The state event a stream opens with. For a running job it is the event the worker sent
+/// when the claim started (same id, same data), which the replay then holds too: the stream
+/// sends it once.
 fn snapshot(status: Status, attempts: i64) -> Event {
     let data = serde_json::json!({ "status": status, "attempt": attempts }).to_string();
     Event {

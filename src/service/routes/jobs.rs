@@ -5,7 +5,9 @@ use crate::service::error::ApiError;
 use crate::service::guard::Caller;
 use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
-use crate::solver::{case::spec_from_json, Case};
+use crate::solver::case::{object_from_json, spec_from_value};
+use crate::solver::input::clip;
+use crate::solver::Case;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Extension, Path, Query, State};
@@ -15,29 +17,26 @@ use axum::Json;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use base64::Engine;
 use serde::Deserialize;
+use serde_json::Value;
 use uuid::Uuid;
 
 const MAX_KEY_CHARS: usize = 200;
 const DEFAULT_PAGE: u32 = 50;
 const MAX_PAGE: u32 = 500;
 
-/// Case JSON text → a job ready to insert, or every reason it is not a case.
-pub(crate) fn prepare(
-    text: &str,
-    limits: &HttpLimits,
-    key: Option<String>,
-) -> Result<NewJob, ApiError> {
-    let spec = spec_from_json(text)?;
+/// Case JSON text (one object, every key once) → a job ready to insert, or every reason it is
+/// not a case.
+fn prepare(text: &str, limits: &HttpLimits, key: Option<String>) -> Result<NewJob, ApiError> {
+    let case = Value::Object(object_from_json(text)?);
+    let spec = spec_from_value(&case)?;
     let label = spec.label.clone();
-    let case = Case::parse(spec, &limits.case)?;
-    // Stored as submitted, in a canonical form so that a retried submit compares equal.
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| ApiError::bad_request(format!("malformed JSON: {e}"), None))?;
+    let checked = Case::parse(spec, &limits.case)?;
     Ok(NewJob {
         id: Uuid::new_v4(),
-        case_json: value.to_string(),
+        // Stored as submitted, in a canonical form so that a retried submit compares equal.
+        case_json: case.to_string(),
         label,
-        particles: case.particle_count(),
+        particles: checked.particle_count(),
         idempotency_key: key,
     })
 }
@@ -88,7 +87,8 @@ pub async fn submit(
 ) -> Result<Response, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let key = idempotency_key(&headers)?;
-    let job = prepare(&text, &s.limits, key)?;
+    let limits = s.limits.clone();
+    let job = s.cpu.run(move || prepare(&text, &limits, key)).await??;
     let owner = caller.name.as_deref();
     match s.store.submit_owned(job, owner, s.limits.max_queue).await? {
         Submitted::Created(r) => {
@@ -129,7 +129,8 @@ pub async fn list(
         let status = Status::parse(name).ok_or_else(|| {
             ApiError::bad_request(
                 format!(
-                    "status {name:?} is not one of queued, running, succeeded, failed, cancelled"
+                    "status {:?} is not one of queued, running, succeeded, failed, cancelled",
+                    clip(name)
                 ),
                 Some("status"),
             )

@@ -125,10 +125,14 @@ pub async fn estimate(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<Estimate>, ApiError> {
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
-    let spec = spec_from_json(&text)?;
-    let case = Case::parse(spec, &s.limits.case)?;
-    Ok(Json(solver_estimate(
-        &case,
-        s.workers.threads_per_job() as u32,
-    )))
+    let limits = s.limits.case;
+    let threads = s.workers.threads_per_job() as u32;
+    let estimate = s
+        .cpu
+        .run(move || -> Result<Estimate, ApiError> {
+            let case = Case::parse(spec_from_json(&text)?, &limits)?;
+            Ok(solver_estimate(&case, threads))
+        })
+        .await??;
+    Ok(Json(estimate))
 }

@@ -17,6 +17,7 @@ use super::guard::{self, Guard};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
+use crate::solver::input::{clip, clip_quoted};
 use crate::solver::Limits;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
@@ -60,6 +61,8 @@ pub struct AppState {
     /// One permit per answer built from a final state (VTU file, picture): they cost memory
     /// in proportion to the particles.
     pub heavy: Arc<Semaphore>,
+    /// Turns at the CPU for handlers that read and check cases and sweeps.
+    pub cpu: super::cpu::CpuGate,
     /// Becomes true when the server shuts down; open SSE streams end then.
     pub shutdown: watch::Receiver<bool>,
     /// Who may do what.
@@ -125,7 +128,7 @@ pub fn app(state: AppState) -> Router {
 async fn no_route(request: Request) -> ApiError {
     ApiError::NoRoute {
         method: request.method().to_string(),
-        path: request.uri().path().to_string(),
+        path: clip(request.uri().path()).into_owned(),
     }
 }
 
@@ -141,7 +144,7 @@ async fn problem_everywhere(response: Response) -> Response {
     }
     let (parts, body) = response.into_parts();
     let text = axum::body::to_bytes(body, 4096).await.unwrap_or_default();
-    let detail = String::from_utf8_lossy(&text).trim().to_string();
+    let detail = clip_quoted(String::from_utf8_lossy(&text).trim());
     let error = match status {
         StatusCode::METHOD_NOT_ALLOWED => ApiError::MethodNotAllowed,
         StatusCode::PAYLOAD_TOO_LARGE => ApiError::TooLarge { limit: 0 },
@@ -174,7 +177,7 @@ pub(crate) fn json_text(
         .map(|ct| ct.split(';').next().unwrap_or("").trim());
     match essence {
         Some(e) if e == "application/json" || e.ends_with("+json") => {}
-        Some(e) => return Err(ApiError::UnsupportedMediaType(e.to_string())),
+        Some(e) => return Err(ApiError::UnsupportedMediaType(clip(e).into_owned())),
         None => return Err(ApiError::UnsupportedMediaType("(none)".into())),
     }
     let bytes = body.map_err(|e| body_error(e, limit))?;
@@ -203,7 +206,7 @@ pub(crate) fn wants_csv(headers: &HeaderMap, format: Option<&str>) -> Result<boo
         Some("json") => return Ok(false),
         Some(other) => {
             return Err(ApiError::bad_request(
-                format!("format must be csv or json, not {other:?}"),
+                format!("format must be csv or json, not {:?}", clip(other)),
                 Some("format"),
             ))
         }
@@ -260,7 +263,7 @@ pub(crate) fn csv_response(text: String, filename: &str) -> Response {
 /// `Uuid::parse_str` also reads are 404 too: one resource, one URL.
 pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
     let not_found = || ApiError::NotFound {
-        what: format!("{what} {raw}"),
+        what: format!("{what} {}", clip(raw)),
     };
     if raw.len() != 36 {
         return Err(not_found());
