@@ -6,8 +6,8 @@
 //! and wide paths, keys given twice, arrays where sections go, and values of every JSON type.
 
 use crush::service::sweep::{plan, Refusal, MAX_ERRORS};
-use crush::solver::case::field_paths;
-use crush::solver::input::ECHO_CHARS;
+use crush::solver::model::case::field_paths;
+use crush::solver::model::input::ECHO_CHARS;
 use crush::solver::{estimate, Case, CaseError, Limits};
 use proptest::prelude::*;
 use serde_json::{json, Value};

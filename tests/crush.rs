@@ -1,9 +1,9 @@
 //! Whole crush runs on coarse cases: energy balance, plates, mean load, reproducibility,
 //! cancellation and blow-up diagnosis. Coarse (n = 2, a few mm of crush) to stay fast in CI.
 
-use crush::solver::scene::Scene;
-use crush::solver::shape::Gimp;
-use crush::solver::step::Simulation;
+use crush::solver::engine::scene::Scene;
+use crush::solver::engine::shape::Gimp;
+use crush::solver::engine::solid::Simulation;
 use crush::solver::{run, Case, Limits, RunOutput, SolveError};
 use std::sync::atomic::AtomicBool;
 

@@ -1,11 +1,11 @@
 //! Physics of the engine against closed forms and conservation laws. Each test states its
 //! tolerance and why. Scenes are small so that the suite stays fast in CI.
 
-use crush::solver::material::{von_mises, Elastoplastic};
-use crush::solver::particles::Particles;
-use crush::solver::scene::{Plate, Ramp, Scene};
-use crush::solver::shape::{Gimp, Linear, Stencil};
-use crush::solver::step::Simulation;
+use crush::solver::engine::particles::Particles;
+use crush::solver::engine::scene::{Plate, Ramp, Scene};
+use crush::solver::engine::shape::{Gimp, Linear, Stencil};
+use crush::solver::engine::solid::Simulation;
+use crush::solver::model::material::{von_mises, Elastoplastic};
 use nalgebra::Vector3;
 
 const RHO: f64 = 1.38e-3; // g/mm³ (PVC)

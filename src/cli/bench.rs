@@ -11,8 +11,8 @@
 //! particle-step against particle count).
 
 use crate::plot::{self, Series};
-use crate::solver::scene::Scene;
-use crate::solver::step::{simulate, Driver, Engine, PhaseTimes};
+use crate::solver::engine::scene::Scene;
+use crate::solver::engine::{simulate, Driver, Engine, PhaseTimes};
 use crate::solver::{Case, Limits, Real};
 use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};

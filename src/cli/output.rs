@@ -3,7 +3,7 @@
 //! `particles.csv` and `shape.png` (the final particle state, as numbers and as a picture; only
 //! when the case keeps it, `output.final_state`).
 
-use crate::solver::mode::ModeDetail;
+use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::Snapshot;
 use crate::solver::{Case, HistoryRow, Summary};
 use anyhow::Context;

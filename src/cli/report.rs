@@ -1,8 +1,8 @@
 //! The text a finished run prints: loads in kN, energy in J, the collapse mode with its reason,
 //! the closed-form references with the ratio of our mean load to the primary one, and the cost.
 
-use crate::solver::case::LoadingMode;
-use crate::solver::mode::ModeDetail;
+use crate::solver::analysis::mode::ModeDetail;
+use crate::solver::model::case::LoadingMode;
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
 
@@ -196,7 +196,7 @@ fn sci(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::reference::references;
+    use crate::solver::analysis::reference::references;
     use crate::solver::{Limits, RunCost};
 
     fn summary(case: &Case, mean: f64, mode: CollapseMode) -> Summary {

@@ -6,7 +6,7 @@
 //! projection, far particles drawn first. Lengths in mm.
 
 use super::font;
-use crate::solver::case::{LoadingMode, Model};
+use crate::solver::model::case::{LoadingMode, Model};
 use crate::solver::Case;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -485,7 +485,7 @@ mod tests {
     /// around the axis (at most the budget of points), or extruded along it.
     #[test]
     fn a_section_is_drawn_as_its_whole_tube() {
-        use crate::solver::{scene::lattice_positions, Limits};
+        use crate::solver::{engine::scene::lattice_positions, Limits};
         for text in [
             r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 2}}"#,
             r#"{"loading": {"mode": "lateral"}, "discretization": {"model": "plane_strain"}}"#,

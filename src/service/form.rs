@@ -230,7 +230,10 @@ mod tests {
 
     #[test]
     fn the_shape_help_names_the_servers_threshold() {
-        let threshold = format!("(d/t >= {})", crate::solver::case::LINEAR_FROM_D_OVER_T);
+        let threshold = format!(
+            "(d/t >= {})",
+            crate::solver::model::case::LINEAR_FROM_D_OVER_T
+        );
         let shape = fields()
             .into_iter()
             .find(|f| f.field == "discretization.shape")
@@ -366,7 +369,7 @@ mod tests {
     #[test]
     fn the_form_has_every_field_of_the_case_and_no_other() {
         // `field_paths` is also what a sweep may name.
-        let mut paths = crate::solver::case::field_paths();
+        let mut paths = crate::solver::model::case::field_paths();
         let mut form: Vec<String> = SPECS.iter().map(|s| s.field.to_string()).collect();
         paths.sort();
         form.sort();

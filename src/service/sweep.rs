@@ -10,8 +10,8 @@
 //! `--max-sweep-jobs`. Combinations are then built and checked one at a time, each a copy of
 //! the base with its values set, and the check stops after [`MAX_ERRORS`] errors.
 
-use crate::solver::case::{field_paths, spec_from_value};
-use crate::solver::input::{clip, clip_quoted, object_from_str, JsonError};
+use crate::solver::model::case::{field_paths, spec_from_value};
+use crate::solver::model::input::{clip, clip_quoted, object_from_str, JsonError};
 use crate::solver::{Case, CaseError, FieldError, Limits};
 use serde::Deserialize;
 use serde_json::{Map, Value};

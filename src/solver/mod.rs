@@ -1,41 +1,44 @@
-//! The crush solver: explicit 3D MPM of a thin-walled tube between rigid plates.
+//! The crush solver: explicit MPM of a thin-walled tube crushed between rigid plates.
 //!
 //! A pure library (std, nalgebra, rayon, serde): no I/O, no async. Results leave through the
 //! return value and the [`Observer`] trait. Internal units are consistent: mm, ms, g, so that
 //! force is N, stress MPa, velocity m/s (= mm/ms) and energy mJ (= N·mm).
+//!
+//! Three floors, each importing only from the floors below it:
+//!
+//! - [`model`]: what the user asked for — the case (its JSON, checks, limits and cost), the
+//!   tube's cross-section (lattice, exact particle count, domain, wall-line metric), the
+//!   material and contact laws. Imports nothing of the other two.
+//! - [`engine`]: how it is computed — the shared kernel (the `Engine` trait, state, clock,
+//!   energy books, the per-particle stress loop) with the 3D model (`solid`) and the reduced
+//!   models (`section`) beneath it, the grid, shape functions and particles, the run loop.
+//!   Imports the model.
+//! - [`analysis`]: what it means — summary, collapse mode, folds, closed-form references, the
+//!   cost estimate. Imports the model and the engine.
+//!
+//! This module joins them: [`run`] is the engine's run followed by the analysis.
 
-pub mod case;
-pub mod checkpoint;
-pub mod contact;
-pub mod estimate;
-pub mod folds;
-pub mod grid;
-pub mod history;
-pub mod input;
-pub mod material;
-pub mod mode;
-pub mod observer;
-pub mod particles;
-pub mod reference;
-pub mod scene;
-pub mod section;
-pub mod shape;
-pub mod step;
-pub mod summary;
+pub mod analysis;
+pub mod engine;
+pub mod model;
 
-pub use case::{Case, CaseError, CaseSpec, FieldError, Limits};
-pub use checkpoint::{Checkpoint, CheckpointError, Resume};
-pub use estimate::{estimate, Estimate};
-pub use history::HistoryRow;
-pub use mode::{detect_mode, ModeDetail};
-pub use observer::{Observer, Progress, Recorder};
-pub use reference::{references, References};
-pub use summary::{summarize, CollapseMode, EnergyBooks, RunCost, Summary};
+pub use analysis::estimate::{estimate, Estimate};
+pub use analysis::mode::{detect_mode, CollapseMode, ModeDetail};
+pub use analysis::reference::{references, References};
+pub use analysis::summary::{summarize, EnergyBooks, Summary};
+pub use engine::checkpoint::{Checkpoint, CheckpointError, Resume};
+pub use engine::history::HistoryRow;
+pub use engine::observer::{Observer, Progress, Recorder};
+pub use engine::{Finished, RunCost, Snapshot, SolveError};
+pub use model::case::{Case, CaseError, CaseSpec, FieldError, Limits};
+
+use engine::scene::Scene;
+use std::sync::atomic::AtomicBool;
 
 /// The floating-point type of all solver state.
 pub type Real = f64;
 
-/// Everything a finished run produces.
+/// Everything a finished run produces: what the engine computed and what it means.
 #[derive(Debug, Clone)]
 pub struct RunOutput {
     pub history: Vec<HistoryRow>,
@@ -45,30 +48,44 @@ pub struct RunOutput {
     pub snapshot: Snapshot,
 }
 
-/// Final particle state, in the scene's particle order.
-#[derive(Debug, Clone, Default)]
-pub struct Snapshot {
-    /// Positions before the crush, mm.
-    pub initial_mm: Vec<[Real; 3]>,
-    /// Positions at the end, mm.
-    pub position_mm: Vec<[Real; 3]>,
-    /// Equivalent plastic strain.
-    pub plastic_strain: Vec<Real>,
+impl RunOutput {
+    /// The analysis of a finished run of `case`.
+    pub fn of(case: &Case, run: Finished) -> RunOutput {
+        let (summary, mode_detail) = summarize(case, &run.history, &run.snapshot, run.cost);
+        RunOutput {
+            history: run.history,
+            summary,
+            mode_detail,
+            snapshot: run.snapshot,
+        }
+    }
 }
 
-/// Why a run ended without a result.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SolveError {
-    #[error("cancelled at step {step}")]
-    Cancelled { step: u64 },
-    /// The numbers went bad: which quantity, where and when.
-    #[error("unstable at step {step} (t = {time_ms:.6} ms): {what}")]
-    Unstable {
-        step: u64,
-        time_ms: f64,
-        what: String,
-    },
+/// Runs a case to the end on the current rayon pool and analyses it ([`engine::run`]).
+pub fn run(
+    case: &Case,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
+    engine::run(case, observer, cancel).map(|r| RunOutput::of(case, r))
 }
 
-mod run;
-pub use run::{resume, run, run_scene};
+/// [`run`] from a checkpoint of the same case ([`engine::resume`]).
+pub fn resume(
+    case: &Case,
+    from: Resume,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
+    engine::resume(case, from, observer, cancel).map(|r| RunOutput::of(case, r))
+}
+
+/// [`run`] on a scene built from `case` and then changed ([`engine::run_scene`]).
+pub fn run_scene(
+    case: &Case,
+    scene: Scene,
+    observer: &mut dyn Observer,
+    cancel: &AtomicBool,
+) -> Result<RunOutput, SolveError> {
+    engine::run_scene(case, scene, observer, cancel).map(|r| RunOutput::of(case, r))
+}

@@ -4,7 +4,7 @@
 
 use super::{pct, plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
 use crate::plot::{self, Series};
-use crate::solver::summary::CollapseMode;
+use crate::solver::CollapseMode;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint, TRUSTED_ORDERS};
 use anyhow::Context;
 use std::fmt::Write as _;

@@ -7,7 +7,7 @@ mod speed;
 mod stability;
 
 use crate::plot::{self, Series};
-use crate::solver::scene::Scene;
+use crate::solver::engine::scene::Scene;
 use crate::solver::Summary;
 use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
 use anyhow::Context;

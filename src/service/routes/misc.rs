@@ -3,7 +3,7 @@
 use super::{json_text, AppState};
 use crate::service::error::{ApiError, STORE_RETRY_AFTER_S};
 use crate::service::store::{Status, StoreError};
-use crate::solver::{case::spec_from_json, estimate as solver_estimate, Case, Estimate};
+use crate::solver::{estimate as solver_estimate, model::case::spec_from_json, Case, Estimate};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::State;

@@ -17,7 +17,7 @@ use super::guard::{self, Guard};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
-use crate::solver::input::{clip, clip_quoted};
+use crate::solver::model::input::{clip, clip_quoted};
 use crate::solver::Limits;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;

@@ -48,7 +48,7 @@ pub async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
             .iter()
             .find(|(n, _, _)| *n == name)
             .ok_or_else(|| ApiError::NotFound {
-                what: format!("asset {}", crate::solver::input::clip(&name)),
+                what: format!("asset {}", crate::solver::model::input::clip(&name)),
             })?;
     Ok(file_response(kind, None, Some("no-cache"), *body))
 }

@@ -8,7 +8,7 @@ use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
-use crate::solver::scene::{lattice_positions, symmetry_note};
+use crate::solver::engine::scene::{lattice_positions, symmetry_note};
 use crate::solver::{Case, HistoryRow, Limits};
 use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;

@@ -1,0 +1,317 @@
+//! Folds counted from the deformed shape, as a person looking at the sections counts them: the
+//! outward lobes along a wall line from one plate to the other. Units: mm.
+//!
+//! Method (axial loading; a lateral crush flattens, it does not fold): the wall is cut into
+//! lines in *material* coordinates — slices one particle spacing thick by their position
+//! before the crush, and [`SECTORS`] sectors around the axis by their angle before the crush.
+//! Along each line, the wall's outermost reach per slice is the largest distance of a particle
+//! of that slice and sector from the slice's current centroid (so a tube that drifted sideways
+//! is measured about its own centre line), less the undeformed outer radius (d + t)/2. The
+//! profile rises at each fold's outer hinge and falls at its inner hinge. A fold is a bump that
+//! reaches at least [`FOLD_REACH_T`] wall thicknesses out, with a rise of at least
+//! [`FOLD_PROMINENCE_T`] before it and a fall of as much after (hysteresis, as in the
+//! load-drop counter); the plates count as the undeformed surface, so a fold flattened against
+//! a plate counts too. A three-slice running median first removes single-particle outliers.
+//! A section through the axis holds two opposite lines, and shows the folds of the one with
+//! more (a tube that leans folds on one side only); the tube's count is the lower median over
+//! its [`SECTORS`]/2 sections: what most sections show.
+//!
+//! Why material coordinates: once folds are pressed together, the lobes of neighbouring folds
+//! lie at the same height, and a profile over the *current* height no longer falls between
+//! them (the diamond runs at t 1.27 mm read 1 and 2 folds where their sections show about 3
+//! and 4). Along the material the folds stay apart however tightly they are packed. Why lines
+//! and not the whole ring: a slice's reach over all angles stays out wherever any lobe of an
+//! inclined diamond hinge is, and the same runs then read 5 and 6.
+//!
+//! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
+//! each lobe's peak shows there, about twice the folds visible in the sections.
+
+use crate::solver::engine::Snapshot;
+use crate::solver::model::case::Case;
+use crate::solver::model::case::{LoadingMode, Model};
+use crate::solver::Real;
+
+/// The rise and fall of the outer profile that makes a fold, in wall thicknesses. Measured:
+/// the notches between the three stacked folds of the axial example (t 3.2, n = 6, 50 mm) are
+/// 2.5–4.5 mm deep, 0.78 t and more. Half a wall thickness keeps room below that.
+pub const FOLD_PROMINENCE_T: Real = 0.5;
+
+/// How far beyond the undeformed outer surface a fold's outer hinge must reach, in wall
+/// thicknesses. A fold's hinge goes out by about half the fold length: 5.5–7.5 mm (1.7–2.3 t)
+/// in the axial example; the smooth barrelling bulges of the n = 2 crush over 20 mm reach
+/// 1.6–1.8 mm (0.5–0.56 t) beside its one fold of 7 mm. One wall thickness lies between.
+pub const FOLD_REACH_T: Real = 1.0;
+
+/// How many wall lines around the axis are counted (an even number: opposite lines make a
+/// section): sectors of 22.5°, as narrow as a section and wide enough to hold particles at
+/// n = 2 (44 around the axial example's ring).
+pub const SECTORS: usize = 16;
+
+/// The number of folds of an axial crush from its final shape; 0 for lateral loading.
+pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
+    let spec = case.spec();
+    if spec.loading.mode == LoadingMode::Lateral {
+        return 0;
+    }
+    let (t, d) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm);
+    if spec.discretization.model == Model::Axisymmetric {
+        // The section is one wall line: its reach is the radius itself.
+        let line = section_line(snapshot, case.spacing_mm(), 0.5 * (d + t));
+        return count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t);
+    }
+    let lines = wall_lines(snapshot, case.spacing_mm(), 0.5 * (d + t));
+    let count = |line: &Vec<Real>| match line.is_empty() {
+        true => None,
+        false => Some(count_bumps(
+            &median3(line),
+            FOLD_PROMINENCE_T * t,
+            FOLD_REACH_T * t,
+        )),
+    };
+    let (left, right) = lines.split_at(lines.len() / 2);
+    let mut sections: Vec<u32> = left
+        .iter()
+        .zip(right)
+        .filter_map(|(a, b)| count(a).max(count(b)))
+        .collect();
+    sections.sort_unstable();
+    sections
+        .get(sections.len().saturating_sub(1) / 2)
+        .copied()
+        .unwrap_or(0)
+}
+
+/// Per sector of the material angle, per material slice of width `h` along z (bottom to top,
+/// empty slices left out): the largest distance in x–y of the slice's particles in that
+/// sector from the slice's current centroid, less `outer`.
+fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
+    let pairs = || {
+        snapshot
+            .initial_mm
+            .iter()
+            .zip(&snapshot.position_mm)
+            .filter(|(a, b)| a.iter().chain(b.iter()).all(|v| v.is_finite()))
+    };
+    let (mut lo, mut hi, mut ax, mut ay, mut n) = (Real::MAX, Real::MIN, 0.0, 0.0, 0usize);
+    for (a, _) in pairs() {
+        (lo, hi, ax, ay, n) = (lo.min(a[2]), hi.max(a[2]), ax + a[0], ay + a[1], n + 1);
+    }
+    if !(lo <= hi && h > 0.0) {
+        return Vec::new();
+    }
+    let (ax, ay) = (ax / n as Real, ay / n as Real);
+    let slices = ((hi - lo) / h).round() as usize + 1;
+    let slice = |a: &[Real; 3]| (((a[2] - lo) / h).round() as usize).min(slices - 1);
+    let sector = |a: &[Real; 3]| {
+        let turn = (a[1] - ay).atan2(a[0] - ax) / std::f64::consts::TAU + 0.5;
+        ((turn * SECTORS as Real) as usize).min(SECTORS - 1)
+    };
+    let mut centroid = vec![(0usize, 0.0, 0.0); slices];
+    for (a, p) in pairs() {
+        let c = &mut centroid[slice(a)];
+        *c = (c.0 + 1, c.1 + p[0], c.2 + p[1]);
+    }
+    let mut reach = vec![vec![Real::MIN; slices]; SECTORS];
+    for (a, p) in pairs() {
+        let k = slice(a);
+        let (m, x, y) = centroid[k];
+        let r = (p[0] - x / m as Real).hypot(p[1] - y / m as Real);
+        let cell = &mut reach[sector(a)][k];
+        *cell = cell.max(r);
+    }
+    reach
+        .into_iter()
+        .map(|line| {
+            line.into_iter()
+                .filter(|&r| r > Real::MIN)
+                .map(|r| r - outer)
+                .collect()
+        })
+        .collect()
+}
+
+/// An axisymmetric section's outer profile: per material slice of width `h` along z (bottom to
+/// top, empty slices left out), the largest radius of its particles less `outer`.
+fn section_line(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Real> {
+    let mut reach: Vec<Real> = Vec::new();
+    for (a, p) in snapshot.initial_mm.iter().zip(&snapshot.position_mm) {
+        if !(a[2].is_finite() && p[0].is_finite()) {
+            continue;
+        }
+        let k = (a[2] / h).floor().max(0.0) as usize;
+        if reach.len() <= k {
+            reach.resize(k + 1, Real::MIN);
+        }
+        reach[k] = reach[k].max(p[0]);
+    }
+    reach
+        .into_iter()
+        .filter(|&r| r > Real::MIN)
+        .map(|r| r - outer)
+        .collect()
+}
+
+/// Running median over three values (the ends kept).
+fn median3(v: &[Real]) -> Vec<Real> {
+    (0..v.len())
+        .map(|i| {
+            if i == 0 || i + 1 == v.len() {
+                v[i]
+            } else {
+                let mut w = [v[i - 1], v[i], v[i + 1]];
+                w.sort_by(Real::total_cmp);
+                w[1]
+            }
+        })
+        .collect()
+}
+
+/// Bumps of `profile` that reach `reach` and rise at least `margin` above the trough before
+/// them and fall as much after; both ends stand on a trough at 0 (the plates hold the
+/// undeformed surface).
+fn count_bumps(profile: &[Real], margin: Real, reach: Real) -> u32 {
+    let (mut rising, mut trough, mut peak, mut bumps) = (true, 0.0, Real::MIN, 0);
+    for &v in profile.iter().chain(std::iter::once(&0.0)) {
+        if rising {
+            if v > peak {
+                peak = v;
+            } else if peak - v >= margin && peak - trough >= margin && peak >= reach {
+                bumps += 1;
+                (rising, trough) = (false, v);
+            }
+            if v < trough {
+                (trough, peak) = (v, v);
+            }
+        } else if v < trough {
+            trough = v;
+        } else if v - trough >= margin {
+            (rising, peak) = (true, v);
+        }
+    }
+    bumps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Limits;
+    use std::f64::consts::PI;
+
+    /// A tube wall (t 3.2, d 22.2) along z over `length`, each particle at radius r + w(z, θ).
+    fn wall(length: Real, w: impl Fn(Real, Real) -> Real) -> Snapshot {
+        let (t, d, h) = (3.2, 22.2, 0.8);
+        let mut snap = Snapshot::default();
+        for j in 0..4 {
+            let r = d / 2.0 - t / 2.0 + (j as Real + 0.5) * h;
+            let around = (2.0 * PI * r / h).round() as usize;
+            for k in 0..(length / h).round() as usize {
+                let z = (k as Real + 0.5) * h;
+                for i in 0..around {
+                    let th = 2.0 * PI * i as Real / around as Real;
+                    let rr = r + w(z, th);
+                    snap.initial_mm.push([r * th.cos(), r * th.sin(), z]);
+                    snap.position_mm.push([rr * th.cos(), rr * th.sin(), z]);
+                }
+            }
+        }
+        snap
+    }
+
+    fn case() -> Case {
+        Case::from_json("{}", &Limits::default()).unwrap()
+    }
+
+    /// Outward lobes only where sin > 0: `n` half-waves of 12 mm, each a fold.
+    fn lobes(z: Real, amplitude: Real) -> Real {
+        amplitude * (2.0 * PI * z / 12.0).sin().max(0.0)
+    }
+
+    #[test]
+    fn three_ring_folds_are_three() {
+        let snap = wall(36.0, |z, _| lobes(z, 4.0));
+        assert_eq!(count_folds(&case(), &snap), 3);
+        // Stacked folds whose outer hinges touch: notches of 2.5 mm (0.78 t) between them.
+        let stacked = wall(36.0, |z, _| 5.0 - 2.5 * (2.0 * PI * z / 12.0).cos());
+        assert_eq!(count_folds(&case(), &stacked), 3);
+    }
+
+    #[test]
+    fn barrelling_waves_are_no_folds() {
+        // 1.8 mm, 0.56 t: the bulges of the n = 2 crush over 20 mm.
+        let snap = wall(36.0, |z, _| lobes(z, 1.8));
+        assert_eq!(count_folds(&case(), &snap), 0);
+        assert_eq!(count_folds(&case(), &wall(36.0, |_, _| 0.0)), 0);
+    }
+
+    /// Diamond layers: every layer folds out all round, furthest at its two lobe corners, each
+    /// layer's corners turned by 90° from the last (12 mm of wall a layer).
+    fn diamond(z: Real, th: Real) -> Real {
+        let layer = (z / 12.0) as usize;
+        let turn = if layer.is_multiple_of(2) {
+            0.0
+        } else {
+            PI / 2.0
+        };
+        (5.0 + 1.5 * (2.0 * (th - turn)).cos()) * (PI * (z % 12.0) / 12.0).sin()
+    }
+
+    #[test]
+    fn diamond_layers_are_counted_once_each() {
+        assert_eq!(count_folds(&case(), &wall(48.0, diamond)), 4);
+    }
+
+    /// The same four layers pressed together: each layer's 12 mm of wall spans 6 mm of height
+    /// and starts 3 mm above the last, so at every height two layers' lobes overlap and the
+    /// outer reach over the current height no longer falls between them. Counted along the
+    /// material, they stay four.
+    #[test]
+    fn packed_diamond_layers_still_count_once_each() {
+        let snap = wall(48.0, diamond);
+        let packed = Snapshot {
+            position_mm: snap
+                .position_mm
+                .iter()
+                .zip(&snap.initial_mm)
+                .map(|(p, a)| {
+                    [
+                        p[0],
+                        p[1],
+                        3.0 * (a[2] / 12.0).floor() + 0.5 * (a[2] % 12.0),
+                    ]
+                })
+                .collect(),
+            ..snap
+        };
+        assert_eq!(count_folds(&case(), &packed), 4);
+    }
+
+    /// A fold pressed flat against a plate at the end of the tube counts: the plate stands for
+    /// the undeformed surface.
+    #[test]
+    fn a_fold_at_a_plate_counts() {
+        let snap = wall(30.0, |z, _| if z > 26.0 { 5.0 } else { 0.0 });
+        assert_eq!(count_folds(&case(), &snap), 1);
+    }
+
+    #[test]
+    fn a_tube_that_moved_sideways_is_measured_about_its_own_centre() {
+        let snap = wall(36.0, |z, _| lobes(z, 4.0));
+        let moved = Snapshot {
+            position_mm: snap
+                .position_mm
+                .iter()
+                .map(|p| [p[0] + 7.0, p[1] - 3.0, p[2]])
+                .collect(),
+            ..snap
+        };
+        assert_eq!(count_folds(&case(), &moved), 3);
+    }
+
+    #[test]
+    fn lateral_crush_and_empty_snapshot_have_no_folds() {
+        let lateral =
+            Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
+        assert_eq!(count_folds(&lateral, &wall(36.0, |z, _| lobes(z, 4.0))), 0);
+        assert_eq!(count_folds(&case(), &Snapshot::default()), 0);
+    }
+}

@@ -1,0 +1,12 @@
+//! The analysis: what a run means. Its summary ([`summary`]: mean load, energy books, the
+//! collapse mode from [`mode`] and the folds from [`folds`]), the closed-form references of
+//! its loading ([`reference`]), and what a case would cost before it runs ([`estimate`]).
+//! Units: mm, N, mJ, s.
+//!
+//! The top floor: imports the model and the engine; nothing imports it but the solver's root.
+
+pub mod estimate;
+pub mod folds;
+pub mod mode;
+pub mod reference;
+pub mod summary;

@@ -1,0 +1,227 @@
+//! Closed-form reference loads for a case, to judge a run against (design page, section 6).
+//! Units: mm, MPa, N.
+//!
+//! d (or D) is the mean diameter, t the wall thickness, l the length, σy the yield stress and U the
+//! crush distance of the case. Each formula is the textbook one; none depends on the run.
+
+use crate::solver::model::case::Case;
+use crate::solver::model::case::LoadingMode;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Lobe counts for which the diamond-mode reference is reported.
+pub const DIAMOND_LOBES: std::ops::RangeInclusive<u32> = 2..=5;
+
+/// Which reference a run's mean load should be compared with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Primary {
+    /// Axial loading: Alexander's ring-mode mean load.
+    #[default]
+    AlexanderRing,
+    /// Lateral loading: DeRuntz & Hodge's load averaged over the crush.
+    DeruntzHodgeMean,
+}
+
+impl Primary {
+    /// Short human name, for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Primary::AlexanderRing => "Alexander ring",
+            Primary::DeruntzHodgeMean => "DeRuntz-Hodge mean",
+        }
+    }
+}
+
+/// Johnson, Soden & Al-Hassani's mean load for one lobe count.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct DiamondReference {
+    pub lobes: u32,
+    /// A = 1 + n cosec(π/2n) + n cot(π/2n).
+    pub a: f64,
+    /// Travelling-hinge radius r*, mm.
+    pub hinge_radius_mm: f64,
+    /// Stationary-hinge bound: σ̄ = σy (t/D) A / √3, load σ̄ π D t.
+    pub stationary_n: f64,
+    /// With the travelling-hinge term: σ̄ = σy (t/D)(A + D/r*) / √3, load σ̄ π D t.
+    pub travelling_n: f64,
+}
+
+/// The closed-form loads for one case.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct References {
+    /// Alexander (1960) ring-mode mean load P̄ = π t σy √(2π t d / √3), N.
+    pub alexander_ring_n: f64,
+    /// Johnson, Soden & Al-Hassani (1977) diamond mode, n = 2..=5.
+    pub diamond: Vec<DiamondReference>,
+    /// DeRuntz & Hodge (1963) lateral load at δ = 0: 4 σy t² l / (√3 d), N.
+    pub deruntz_hodge_initial_n: f64,
+    /// DeRuntz & Hodge load averaged over δ ∈ [0, U]; `None` when U ≥ d (the formula ends there).
+    pub deruntz_hodge_mean_n: Option<f64>,
+    /// Euler load of the whole column with clamped ends, 4π² E I / l², N.
+    pub euler_clamped_n: f64,
+    /// The reference a report compares the run's mean load with.
+    pub primary: Primary,
+    /// Value of `primary`, N (NaN-free: 0 if it does not exist).
+    pub primary_n: f64,
+}
+
+/// Every reference load for `case`.
+pub fn references(case: &Case) -> References {
+    let spec = case.spec();
+    let (t, d, l) = (
+        spec.tube.thickness_mm,
+        spec.tube.mean_diameter_mm,
+        spec.tube.length_mm,
+    );
+    let (sy, e) = (
+        spec.material.yield_stress_mpa,
+        spec.material.youngs_modulus_mpa,
+    );
+    let u = case.crush_distance_mm();
+
+    let alexander_ring_n = alexander_ring(t, d, sy);
+    let diamond = DIAMOND_LOBES
+        .map(|n| johnson_diamond(t, d, sy, n))
+        .collect();
+    let deruntz_hodge_initial_n = deruntz_hodge(t, d, l, sy, 0.0);
+    let deruntz_hodge_mean_n = deruntz_hodge_mean(t, d, l, sy, u);
+    let euler_clamped_n = euler_clamped(t, d, l, e);
+    let (primary, primary_n) = match spec.loading.mode {
+        LoadingMode::Axial => (Primary::AlexanderRing, alexander_ring_n),
+        LoadingMode::Lateral => (
+            Primary::DeruntzHodgeMean,
+            deruntz_hodge_mean_n.unwrap_or(0.0),
+        ),
+    };
+    References {
+        alexander_ring_n,
+        diamond,
+        deruntz_hodge_initial_n,
+        deruntz_hodge_mean_n,
+        euler_clamped_n,
+        primary,
+        primary_n,
+    }
+}
+
+/// Alexander's axisymmetric mean load, N.
+pub fn alexander_ring(t: f64, d: f64, sy: f64) -> f64 {
+    PI * t * sy * (2.0 * PI * t * d / 3f64.sqrt()).sqrt()
+}
+
+/// Johnson, Soden & Al-Hassani's n-lobe diamond mode.
+pub fn johnson_diamond(t: f64, d: f64, sy: f64, lobes: u32) -> DiamondReference {
+    let n = lobes as f64;
+    let half = PI / (2.0 * n);
+    let a = 1.0 + n / half.sin() + n / half.tan();
+    let hinge_radius_mm = (d / a) * ((1.0 + 0.5 * a * half * half.tan()).sqrt() - 1.0);
+    let area = PI * d * t;
+    let stress = |bracket: f64| sy * (t / d) * bracket / 3f64.sqrt();
+    DiamondReference {
+        lobes,
+        a,
+        hinge_radius_mm,
+        stationary_n: stress(a) * area,
+        travelling_n: stress(a + d / hinge_radius_mm) * area,
+    }
+}
+
+/// DeRuntz & Hodge's lateral load at deflection δ < d, N.
+pub fn deruntz_hodge(t: f64, d: f64, l: f64, sy: f64, delta: f64) -> f64 {
+    4.0 * sy * t * t * l / (3f64.sqrt() * d * (1.0 - delta / d).sqrt())
+}
+
+/// Mean of DeRuntz & Hodge's load over δ ∈ [0, U]: with P(δ) = P₀ / √(1 − δ/d),
+/// (1/U) ∫₀ᵁ P dδ = 2 P₀ d (1 − √(1 − U/d)) / U. `None` for U ≥ d; P₀ for U = 0.
+pub fn deruntz_hodge_mean(t: f64, d: f64, l: f64, sy: f64, u: f64) -> Option<f64> {
+    let p0 = deruntz_hodge(t, d, l, sy, 0.0);
+    if u >= d {
+        None
+    } else if u <= 0.0 {
+        Some(p0)
+    } else {
+        Some(2.0 * p0 * d * (1.0 - (1.0 - u / d).sqrt()) / u)
+    }
+}
+
+/// Euler load of a clamped–clamped tube, N; I = π(d_o⁴ − d_i⁴)/64 with d_o,i = d ± t.
+pub fn euler_clamped(t: f64, d: f64, l: f64, e: f64) -> f64 {
+    let (d_o, d_i) = (d + t, d - t);
+    let i = PI * (d_o.powi(4) - d_i.powi(4)) / 64.0;
+    4.0 * PI * PI * e * i / (l * l)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Limits;
+
+    fn close(got: f64, want: f64, rel: f64) {
+        assert!((got / want - 1.0).abs() < rel, "got {got}, want {want}");
+    }
+
+    #[test]
+    fn alexander_for_the_pvc_tube() {
+        // π·3.2·65.5 = 658.47; 2π·3.2·22.2/√3 = 257.70, √ = 16.053; product 10 570.7 N.
+        close(alexander_ring(3.2, 22.2, 65.5), 10_570.7, 1e-4);
+    }
+
+    #[test]
+    fn johnson_two_lobes() {
+        // n = 2: π/4, cosec = √2, cot = 1 → A = 1 + 2√2 + 2 = 5.8284.
+        // r* = (22.2/5.8284)(√(1 + 2.9142·0.7854·1) − 1) = 3.8089·(1.81349 − 1) = 3.0986 mm.
+        // σ̄ = 65.5·(3.2/22.2)/√3 = 5.4510 MPa per unit bracket; π D t = 223.18 mm².
+        // stationary 5.4510·5.8284·223.18 = 7 090.6 N; travelling ·(5.8284 + 7.1646) = 15 806.6 N.
+        let r = johnson_diamond(3.2, 22.2, 65.5, 2);
+        close(r.a, 5.828_427, 1e-6);
+        close(r.hinge_radius_mm, 3.0986, 1e-4);
+        close(r.stationary_n, 7_090.6, 1e-4);
+        close(r.travelling_n, 15_806.6, 1e-4);
+        // n = 3: π/6, cosec = 2, cot = √3 → A = 1 + 6 + 3√3 = 12.196.
+        close(johnson_diamond(3.2, 22.2, 65.5, 3).a, 12.196_152, 1e-6);
+    }
+
+    #[test]
+    fn deruntz_hodge_start_and_mean() {
+        // P₀ = 4·65.5·3.2²·76.2 / (√3·22.2) = 204 372.5 / 38.451 = 5 316.7 N.
+        close(deruntz_hodge(3.2, 22.2, 76.2, 65.5, 0.0), 5_316.7, 1e-4);
+        // U = 12.5: 2·5316.7·22.2·(1 − √(1 − 12.5/22.2))/12.5 = 18 885.0·(1 − 0.66097) = 6 401.8 N.
+        let mean = deruntz_hodge_mean(3.2, 22.2, 76.2, 65.5, 12.5).unwrap();
+        close(mean, 6_401.8, 1e-4);
+        // The closed form agrees with a fine midpoint sum of P(δ).
+        let n = 100_000;
+        let sum: f64 = (0..n)
+            .map(|i| deruntz_hodge(3.2, 22.2, 76.2, 65.5, 12.5 * (i as f64 + 0.5) / n as f64))
+            .sum();
+        close(mean, sum / n as f64, 1e-6);
+        assert_eq!(deruntz_hodge_mean(3.2, 22.2, 76.2, 65.5, 30.0), None);
+    }
+
+    #[test]
+    fn euler_for_the_pvc_tube() {
+        // I = π(25.4⁴ − 19⁴)/64 = π(416 231.4 − 130 321)/64 = 14 034.6 mm⁴;
+        // P = 4π²·3378.4·14 034.6 / 76.2² = 322 375 N.
+        close(euler_clamped(3.2, 22.2, 76.2, 3378.4), 322_375.0, 1e-5);
+    }
+
+    #[test]
+    fn primary_follows_the_loading() {
+        let axial = Case::from_json("{}", &Limits::default()).unwrap();
+        let r = references(&axial);
+        assert_eq!(r.primary, Primary::AlexanderRing);
+        assert_eq!(r.primary_n, r.alexander_ring_n);
+        assert_eq!(
+            r.diamond.iter().map(|d| d.lobes).collect::<Vec<_>>(),
+            vec![2, 3, 4, 5]
+        );
+        // Axial crush of 50 mm is past the lateral formula's range.
+        assert_eq!(r.deruntz_hodge_mean_n, None);
+
+        let lateral =
+            Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
+        let r = references(&lateral);
+        assert_eq!(r.primary, Primary::DeruntzHodgeMean);
+        close(r.primary_n, 6_401.8, 1e-4);
+    }
+}

@@ -1,0 +1,436 @@
+//! A finished run in a few numbers: mean collapse load, peak, energy absorbed, folds, energy
+//! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
+
+use super::folds::count_folds;
+use super::mode::{detect_mode, CollapseMode, ModeDetail};
+use super::reference::{references, References};
+use crate::solver::engine::history::HistoryRow;
+use crate::solver::engine::{RunCost, Snapshot};
+use crate::solver::model::case::{Case, LoadingMode, ShapeChoice};
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// P̄ = TEA / crush distance.
+    pub mean_load_n: f64,
+    pub peak_load_n: f64,
+    /// TEA = ∫ P du by the trapezoid rule over the history.
+    pub energy_absorbed_mj: f64,
+    pub crush_distance_mm: f64,
+    /// Folds of the wall, counted from the final shape as in the sections (axial loading; 0 for
+    /// lateral flattening, which does not fold). See [`super::folds`].
+    pub folds: u32,
+    /// Significant drops of the load on the moving plate (axial loading; 0 for lateral). In the
+    /// diamond modes each lobe's peak shows here, about twice the folds.
+    #[serde(default)]
+    pub load_drops: u32,
+    /// |W_ext − (E_kin + E_int + W_fric + W_contact)| / max(W_ext, E_int), the largest over
+    /// the run (see [`energy_balance_error`]).
+    pub energy_balance_error: f64,
+    /// Every term of the energy balance at the end of the run.
+    #[serde(default)]
+    pub energy: EnergyBooks,
+    /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
+    pub kinetic_to_internal: f64,
+    pub mode: CollapseMode,
+    pub references: References,
+    pub cost: RunCost,
+    /// The shape functions the run used, and why when the case left them to the default.
+    /// Absent only from summaries stored before the default depended on the wall.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeChoice>,
+}
+
+/// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
+/// residual, which is the balance's numerical error (`external − booked`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct EnergyBooks {
+    pub work_top_mj: f64,
+    pub work_bottom_mj: f64,
+    pub kinetic_mj: f64,
+    pub elastic_mj: f64,
+    pub plastic_mj: f64,
+    pub friction_mj: f64,
+    /// Dissipated by the contact projection: grid nodes caught by a plate.
+    pub contact_mj: f64,
+    pub residual_mj: f64,
+}
+
+impl EnergyBooks {
+    /// The books of a history row.
+    pub fn of(r: &HistoryRow) -> EnergyBooks {
+        EnergyBooks {
+            work_top_mj: r.work_top_mj,
+            work_bottom_mj: r.work_bottom_mj,
+            kinetic_mj: r.kinetic_mj,
+            elastic_mj: r.internal_mj - r.plastic_mj,
+            plastic_mj: r.plastic_mj,
+            friction_mj: r.friction_mj,
+            contact_mj: r.contact_mj,
+            residual_mj: r.external_mj - r.booked_mj(),
+        }
+    }
+}
+
+/// A load drop counts when it reaches this fraction of the running mean load.
+pub const LOAD_DROP_FRACTION: f64 = 0.15;
+
+/// Rows whose external work is below this share of its final value are left out of the energy
+/// balance error (dividing by almost nothing says nothing).
+pub const ENERGY_BALANCE_FROM: f64 = 0.01;
+
+/// The summary of a finished run, from its history (load on the moving plate) and final shape,
+/// and the numbers behind its collapse mode.
+pub fn summarize(
+    case: &Case,
+    history: &[HistoryRow],
+    snapshot: &Snapshot,
+    cost: RunCost,
+) -> (Summary, ModeDetail) {
+    let (mode, mode_detail) = detect_mode(case, snapshot);
+    let energy_absorbed_mj = energy_absorbed(history);
+    let crush_distance_mm = history.last().map_or(0.0, |r| r.displacement_mm);
+    let mean_load_n = if crush_distance_mm > 0.0 {
+        energy_absorbed_mj / crush_distance_mm
+    } else {
+        0.0
+    };
+    let summary = Summary {
+        mean_load_n,
+        peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
+        energy_absorbed_mj,
+        crush_distance_mm,
+        folds: count_folds(case, snapshot),
+        load_drops: match case.spec().loading.mode {
+            LoadingMode::Axial => count_load_drops(history),
+            LoadingMode::Lateral => 0,
+        },
+        energy_balance_error: energy_balance_error(history),
+        energy: history.last().map(EnergyBooks::of).unwrap_or_default(),
+        kinetic_to_internal: kinetic_to_internal(history),
+        mode,
+        references: references(case),
+        cost,
+        shape: Some(case.shape_choice().clone()),
+    };
+    (summary, mode_detail)
+}
+
+/// TEA = Σ (P_{i−1} + P_i)/2 · Δu over the history, starting from (u = 0, P = 0), mJ.
+pub fn energy_absorbed(history: &[HistoryRow]) -> f64 {
+    running_energy(history).last().copied().unwrap_or(0.0)
+}
+
+/// TEA up to and including each row.
+fn running_energy(history: &[HistoryRow]) -> Vec<f64> {
+    let (mut u, mut p, mut e) = (0.0, 0.0, 0.0);
+    history
+        .iter()
+        .map(|r| {
+            e += 0.5 * (p + r.load_top_n) * (r.displacement_mm - u);
+            (u, p) = (r.displacement_mm, r.load_top_n);
+            e
+        })
+        .collect()
+}
+
+/// Number of significant load drops, by a peak detector with hysteresis.
+///
+/// The rule: walking along the history, the detector is either *rising* (tracking the highest
+/// load since the last trough) or *falling* (tracking the lowest load since the last peak). A
+/// drop is counted when, while rising, the load falls below the tracked peak by at least
+/// [`LOAD_DROP_FRACTION`] of the current reference load; the detector then falls until the load
+/// climbs the same margin above the tracked trough. The reference load is the running mean
+/// TEA(u)/u, floored at half the final mean so that noise in the first rows of the elastic ramp,
+/// where the running mean is still near zero, cannot count. A drop still in progress at the end of
+/// the history counts once it reaches the margin; a final rise without a drop does not.
+///
+/// The load is first passed through a short running median (see `median_filtered`), so that
+/// one- or two-row contact spikes are not counted as drops.
+pub fn count_load_drops(history: &[HistoryRow]) -> u32 {
+    let energy = running_energy(history);
+    let final_mean = match history.last() {
+        Some(r) if r.displacement_mm > 0.0 => energy[energy.len() - 1] / r.displacement_mm,
+        _ => return 0,
+    };
+    let smooth = median_filtered(history);
+    let (mut rising, mut peak, mut trough, mut drops) = (true, f64::MIN, f64::MAX, 0);
+    for ((r, e), &p) in history.iter().zip(&energy).zip(&smooth) {
+        let running = if r.displacement_mm > 0.0 {
+            e / r.displacement_mm
+        } else {
+            0.0
+        };
+        let margin = LOAD_DROP_FRACTION * running.max(0.5 * final_mean);
+        if rising {
+            if p > peak {
+                peak = p;
+            } else if peak - p >= margin {
+                drops += 1;
+                (rising, trough) = (false, p);
+            }
+        } else if p < trough {
+            trough = p;
+        } else if p - trough >= margin {
+            (rising, peak) = (true, p);
+        }
+    }
+    drops
+}
+
+/// The load on the moving plate through a running median over ±max(2, rows/200) rows: a fold
+/// spans tens of rows, while contact noise makes one- or two-row spikes that are no folds.
+fn median_filtered(history: &[HistoryRow]) -> Vec<f64> {
+    let half = (history.len() / 200).max(2);
+    let loads: Vec<f64> = history.iter().map(|r| r.load_top_n).collect();
+    (0..loads.len())
+        .map(|i| {
+            let mut w = loads[i.saturating_sub(half)..(i + half + 1).min(loads.len())].to_vec();
+            w.sort_by(f64::total_cmp);
+            w[w.len() / 2]
+        })
+        .collect()
+}
+
+/// max |W_ext − (E_kin + E_int + W_fric + W_contact)| / max(W_ext, E_int) over the rows where
+/// W_ext has reached [`ENERGY_BALANCE_FROM`] of its final value; 0 when no external work was
+/// done.
+pub fn energy_balance_error(history: &[HistoryRow]) -> f64 {
+    let final_work = history.last().map_or(0.0, |r| r.external_mj);
+    if final_work <= 0.0 {
+        return 0.0;
+    }
+    history
+        .iter()
+        .filter(|r| r.external_mj >= ENERGY_BALANCE_FROM * final_work)
+        .map(|r| {
+            let gap = r.external_mj - r.booked_mj();
+            gap.abs() / r.external_mj.max(r.internal_mj)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Largest E_kin / E_int over the second half of the crush (rows with E_int > 0).
+pub fn kinetic_to_internal(history: &[HistoryRow]) -> f64 {
+    let half = 0.5 * history.last().map_or(0.0, |r| r.displacement_mm);
+    history
+        .iter()
+        .filter(|r| r.displacement_mm >= half && r.internal_mj > 0.0)
+        .map(|r| r.kinetic_mj / r.internal_mj)
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::Limits;
+
+    #[test]
+    fn a_mode_s_kind_is_its_json_tag() {
+        for mode in [
+            CollapseMode::Ring,
+            CollapseMode::Diamond { lobes: 3 },
+            CollapseMode::GlobalBuckling,
+            CollapseMode::Flattening,
+        ] {
+            let json = serde_json::to_value(mode).unwrap();
+            assert_eq!(json["kind"], mode.kind(), "{mode:?}");
+        }
+    }
+
+    fn row(u: f64, p: f64) -> HistoryRow {
+        HistoryRow {
+            displacement_mm: u,
+            load_top_n: p,
+            ..Default::default()
+        }
+    }
+
+    /// Samples a piecewise-linear load curve through `vertices` every `du` mm (from du on).
+    fn curve(vertices: &[(f64, f64)], du: f64, noise: f64) -> Vec<HistoryRow> {
+        let end = vertices.last().unwrap().0;
+        let n = (end / du).round() as usize;
+        let mut seed: u64 = 12345;
+        (1..=n)
+            .map(|i| {
+                let u = i as f64 * du;
+                let k = vertices
+                    .windows(2)
+                    .position(|w| u <= w[1].0 + 1e-9)
+                    .unwrap();
+                let ((u0, p0), (u1, p1)) = (vertices[k], vertices[k + 1]);
+                // Deterministic uniform noise in [−noise, noise] (an LCG).
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let r = (seed >> 11) as f64 / (1u64 << 53) as f64;
+                row(
+                    u,
+                    p0 + (p1 - p0) * (u - u0) / (u1 - u0) + noise * (2.0 * r - 1.0),
+                )
+            })
+            .collect()
+    }
+
+    /// Initial peak of 2 kN, then three teeth 800 → 1400 N: four drops of 600–1200 N, then a
+    /// final rise to 1100 N with no drop after it.
+    const TEETH: [(f64, f64); 10] = [
+        (0.0, 0.0),
+        (1.0, 2000.0),
+        (2.0, 800.0),
+        (9.0, 1400.0),
+        (10.0, 800.0),
+        (17.0, 1400.0),
+        (18.0, 800.0),
+        (25.0, 1400.0),
+        (26.0, 800.0),
+        (30.0, 1100.0),
+    ];
+
+    #[test]
+    fn tea_and_mean_of_a_constant_load() {
+        // P = 1000 N at u = 1..10: the first interval is (0 + 1000)/2 · 1 = 500, then 9 · 1000.
+        let h: Vec<_> = (1..=10).map(|i| row(i as f64, 1000.0)).collect();
+        let (s, _) = summarize(&case("{}"), &h, &Snapshot::default(), RunCost::default());
+        assert_eq!(s.energy_absorbed_mj, 9500.0);
+        assert_eq!(s.crush_distance_mm, 10.0);
+        assert_eq!(s.mean_load_n, 950.0);
+        assert_eq!(s.peak_load_n, 1000.0);
+        assert_eq!(s.folds, 0);
+    }
+
+    #[test]
+    fn tea_of_a_linear_load_is_exact() {
+        // P = 100 u: ∫₀¹⁰ = 50 · 10² = 5000 mJ; the trapezoid rule is exact for a line.
+        let h: Vec<_> = (1..=7)
+            .map(|i| row(i as f64 * 10.0 / 7.0, 100.0 * i as f64 * 10.0 / 7.0))
+            .collect();
+        assert!((energy_absorbed(&h) - 5000.0).abs() < 1e-9);
+        assert_eq!(energy_absorbed(&[]), 0.0);
+    }
+
+    #[test]
+    fn saw_tooth_load_drops_are_counted() {
+        assert_eq!(count_load_drops(&curve(&TEETH, 0.1, 0.0)), 4);
+        // Five equal teeth 1000 → 1495 N, each ending in a drop; the last drop falls on the last
+        // row alone, which the median cannot tell from a spike, so four are counted.
+        let h: Vec<_> = (1..=500)
+            .map(|i| row(i as f64 * 0.1, 1000.0 + 5.0 * (i % 100) as f64))
+            .collect();
+        assert_eq!(count_load_drops(&h), 4);
+        let longer: Vec<_> = (1..=510)
+            .map(|i| row(i as f64 * 0.1, 1000.0 + 5.0 * (i % 100) as f64))
+            .collect();
+        assert_eq!(count_load_drops(&longer), 5);
+    }
+
+    #[test]
+    fn noise_does_not_add_load_drops() {
+        // ±60 N noise (5 % of the ~1.2 kN mean) on the teeth: still four drops.
+        assert_eq!(count_load_drops(&curve(&TEETH, 0.05, 60.0)), 4);
+        // Noise alone on a plateau: the 15 % margin (≈ 150 N) exceeds its 120 N peak-to-peak.
+        assert_eq!(
+            count_load_drops(&curve(&[(0.0, 1000.0), (30.0, 1000.0)], 0.05, 60.0)),
+            0
+        );
+        // A dip of 8 % of the mean on the way up is a wiggle, not a fold.
+        let wiggle = [
+            (0.0, 1000.0),
+            (5.0, 1300.0),
+            (5.5, 1200.0),
+            (10.0, 1500.0),
+            (11.0, 900.0),
+        ];
+        assert_eq!(count_load_drops(&curve(&wiggle, 0.1, 0.0)), 1);
+    }
+
+    #[test]
+    fn energy_balance_error_skips_the_start() {
+        let e = |u: f64, ext: f64, kin: f64, int: f64, fric: f64| HistoryRow {
+            displacement_mm: u,
+            external_mj: ext,
+            kinetic_mj: kin,
+            internal_mj: int,
+            friction_mj: fric,
+            ..Default::default()
+        };
+        let h = [
+            // W_ext = 0.5 < 1 % of 100: left out although its balance is 100 % off.
+            e(0.1, 0.5, 0.0, 0.0, 0.0),
+            // |50 − 48| / 50 = 0.04.
+            e(1.0, 50.0, 2.0, 45.0, 1.0),
+            // |100 − (3 + 90 + 2)| / 100 = 0.05.
+            e(2.0, 100.0, 3.0, 90.0, 2.0),
+        ];
+        assert!((energy_balance_error(&h) - 0.05).abs() < 1e-12);
+        // Internal energy above the work done: divide by E_int. |10 − 12.5| / 12.5 = 0.2.
+        assert!((energy_balance_error(&[e(1.0, 10.0, 0.0, 12.5, 0.0)]) - 0.2).abs() < 1e-12);
+        assert_eq!(energy_balance_error(&[]), 0.0);
+    }
+
+    #[test]
+    fn kinetic_ratio_looks_at_the_second_half_only() {
+        let e = |u: f64, kin: f64, int: f64| HistoryRow {
+            displacement_mm: u,
+            kinetic_mj: kin,
+            internal_mj: int,
+            ..Default::default()
+        };
+        // The first-half ratio 5 is ignored; the second half has 2/40 = 0.05 and 3/100 = 0.03.
+        let h = [
+            e(1.0, 5.0, 1.0),
+            e(4.0, 1.0, 20.0),
+            e(5.0, 2.0, 40.0),
+            e(10.0, 3.0, 100.0),
+        ];
+        assert!((kinetic_to_internal(&h) - 0.05).abs() < 1e-12);
+    }
+
+    #[test]
+    fn summary_carries_mode_and_references() {
+        let lateral = case(r#"{"loading": {"mode": "lateral"}}"#);
+        let (s, _) = summarize(
+            &lateral,
+            &curve(&TEETH, 0.1, 0.0),
+            &Snapshot::default(),
+            RunCost::default(),
+        );
+        assert_eq!(s.mode, CollapseMode::Flattening);
+        assert_eq!(s.references, references(&lateral));
+        assert_eq!(s.peak_load_n, 2000.0);
+        // Round trip through JSON, as the CLI and the service store it (serde_json's default
+        // float parser may be off by one ulp, so compare the re-serialized text).
+        let text = serde_json::to_string(&s).unwrap();
+        let back: Summary = serde_json::from_str(&text).unwrap();
+        assert_eq!(
+            (back.mode, back.folds, back.references.primary),
+            (s.mode, s.folds, s.references.primary)
+        );
+        assert!(
+            (back.references.alexander_ring_n / s.references.alexander_ring_n - 1.0).abs() < 1e-15
+        );
+    }
+
+    fn case(json: &str) -> Case {
+        Case::from_json(json, &Limits::default()).unwrap()
+    }
+}
+
+#[cfg(test)]
+mod spike_tests {
+    use super::*;
+
+    /// A regression for what broke on the first n = 4 crush: single-row contact spikes of
+    /// +40 % on a flat plateau were counted as folds (9 of them on a curve with one fold).
+    #[test]
+    fn single_row_spikes_are_not_load_drops() {
+        let rows: Vec<HistoryRow> = (1..=300)
+            .map(|i| HistoryRow {
+                displacement_mm: i as f64 * 0.1,
+                load_top_n: if i % 23 == 0 { 14_000.0 } else { 10_000.0 },
+                ..Default::default()
+            })
+            .collect();
+        assert_eq!(count_load_drops(&rows), 0);
+    }
+}

@@ -1,0 +1,151 @@
+//! The reduced models: explicit MPM of a tube's section in the x–z plane, with the step, shape
+//! functions, contact law, material and energy books of the 3D model (units: mm, ms, g, N,
+//! MPa, mJ). [`Symmetry`] says what the removed direction y does:
+//!
+//! - **axisymmetric**: x is the radius r. A particle stands for its ring (volume 2π·r·area), the
+//!   hoop strain rate is v_r / r, and the hoop stress pulls each node of the particle inward by
+//!   V·σ_θθ·N / r. Shear in r–θ and θ–z stays zero.
+//! - **plane strain**: x and z span the cross-section; the strain rate along the tube is zero and
+//!   σ_yy follows from the return map. A particle stands for the tube's length (volume
+//!   area · l), so the loads are those of a tube whose every section deforms alike: the ends'
+//!   free edges are left out.
+//!
+//! Stress stays in the 3D layout (`Sym`: xx, yy, zz, yz, xz, xy), with y the removed direction:
+//! σ_yy is the hoop (or axial) stress. The step is the 3D one phase for phase (see
+//! `step/mod.rs`): full scatter, grid update with the plates, FLIP velocity, remap scatter, remap
+//! with the plates, kinematics, stress.
+
+mod grid;
+mod passes;
+
+use super::grid::{Full, Remap};
+use super::scene::Scene;
+use super::shape::Stencil;
+use super::stress::ChunkSums;
+use super::{Clock, Engine, SolveError, State};
+use crate::solver::model::case::Model;
+use crate::solver::model::contact::ContactSums;
+use crate::solver::Real;
+use grid::PlaneGrid;
+use nalgebra::Matrix3;
+
+/// What the direction a reduced model removes does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Symmetry {
+    /// x is the radius: hoop strain v_r / r, hoop stress in the radial force.
+    Axisymmetric,
+    /// No strain along y.
+    PlaneStrain,
+}
+
+impl Symmetry {
+    /// The symmetry of a reduced model; None for 3D.
+    pub fn of(model: Model) -> Option<Symmetry> {
+        match model {
+            Model::ThreeD => None,
+            Model::Axisymmetric => Some(Symmetry::Axisymmetric),
+            Model::PlaneStrain => Some(Symmetry::PlaneStrain),
+        }
+    }
+
+    /// 1 where the hoop terms act, 0 in plane strain.
+    fn hoop(self) -> Real {
+        match self {
+            Symmetry::Axisymmetric => 1.0,
+            Symmetry::PlaneStrain => 0.0,
+        }
+    }
+}
+
+/// Working memory of a section step (none of it state).
+#[derive(Debug, Default)]
+struct Scratch {
+    /// Per particle: its velocity gradient of this step (1/ms), in the 3D layout.
+    gradient: Vec<Matrix3<Real>>,
+    /// Per particle: the grid cell (index as a node's) it stood in at the start of the step.
+    cell_of: Vec<u32>,
+    /// Per cell, with volumetric averaging: its particles' volume, then their volume-weighted
+    /// mean dilation rate (1/ms) and pressure (MPa).
+    averages: Option<Vec<[Real; 3]>>,
+    /// The scatter's per-run sums.
+    patches: Vec<passes::Patch>,
+    /// Per chunk of particles, the stress update's sums.
+    chunk_sums: Vec<ChunkSums>,
+}
+
+/// A section advancing in time with shape function `S`.
+pub struct Section<S: Stencil> {
+    pub state: State,
+    symmetry: Symmetry,
+    grid: PlaneGrid<S>,
+    scratch: Scratch,
+}
+
+impl<S: Stencil> Section<S> {
+    /// A section scene (built by `Scene::from_case` for a reduced model) under `symmetry`.
+    pub fn new(scene: Scene, symmetry: Symmetry) -> Section<S> {
+        let n = scene.particles.len();
+        let scratch = Scratch {
+            gradient: vec![Matrix3::zeros(); n],
+            cell_of: vec![0; n],
+            averages: scene.average_volumetric.then(Vec::new),
+            patches: Vec::new(),
+            chunk_sums: Vec::new(),
+        };
+        Section {
+            grid: PlaneGrid::new(scene.cell),
+            state: State::new(scene),
+            symmetry,
+            scratch,
+        }
+    }
+}
+
+impl<S: Stencil> Engine for Section<S> {
+    fn state(&self) -> &State {
+        &self.state
+    }
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
+    }
+    /// The phases in the order of the module doc.
+    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
+        let lp = self.state.scene.half_size / self.state.scene.cell;
+        let mut clock = Clock::start();
+        self.grid.fit(&self.state.scene.particles.x, lp);
+        clock.lap(&mut self.state.phases.bin);
+        self.scatter::<Full>(lp);
+        clock.lap(&mut self.state.phases.p2g);
+        let contact = self.grid_update(dt);
+        clock.lap(&mut self.state.phases.grid);
+        self.g2p_velocity(lp);
+        clock.lap(&mut self.state.phases.g2p);
+        self.scatter::<Remap>(lp);
+        clock.lap(&mut self.state.phases.p2g);
+        self.remap();
+        clock.lap(&mut self.state.phases.grid);
+        self.g2p_kinematics(lp, dt);
+        clock.lap(&mut self.state.phases.g2p);
+        let kinetic = self.update_stress(dt)?;
+        clock.lap(&mut self.state.phases.stress);
+        Ok((contact, kinetic))
+    }
+    fn active_cells(&self) -> u64 {
+        self.grid.len() as u64
+    }
+    fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        let s = &self.scratch;
+        self.state.scene.particles.bytes()
+            + self.grid.bytes()
+            + s.gradient.capacity() * size_of::<Matrix3<Real>>()
+            + s.cell_of.capacity() * size_of::<u32>()
+            + s.averages
+                .as_ref()
+                .map_or(0, |a| a.capacity() * size_of::<[Real; 3]>())
+            + s.patches.iter().map(|p| p.bytes()).sum::<usize>()
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,231 @@
+//! Contact of the tube with rigid plates at grid nodes (design page §3): a plate of infinite mass
+//! and prescribed velocity; at a node in contact whose velocity approaches the plate, the normal
+//! velocity becomes the plate's and the tangential impulse is capped at μ times the normal one.
+//!
+//! Which nodes are in contact, and with which plate: those that a particle touching a plate
+//! contributes mass to (`touching`, scattered as `Node::touch` with the sign of that plate's
+//! side), and the plate whose touching particles gave the node more mass. The first version took
+//! every node within one cell of the plate instead; each time the plate crossed a node plane a
+//! whole layer of nodes was caught at once, giving load spikes of 3–5 times the mean every cell
+//! of travel in the lateral crush, and the material within a cell of the plate acted as a rigid
+//! end cap. The second took the plate nearest the node, which is wrong once the plates are a
+//! few cells apart (the end of every lateral crush): a node that only bottom-touching particles
+//! reach could be held by the top plate.
+//!
+//! Energy: a projection of a node's velocity against a plate of velocity V with impulse J does
+//! work J·V on the tube (the plate's work) and J·v̄ on the node, v̄ the node's mean velocity over
+//! the step (start of step and end, leapfrog's midpoint: the grid's kinetic energy changes by
+//! exactly (f·dt + J)·v̄). The difference J·(V − v̄) is the energy the projection dissipates: the
+//! inelastic catch of a node by the plate (normal part) and friction (tangential part). A node
+//! caught at rest from v0 loses ½·m·(v0 − V)² exactly; a node merely held against the plate
+//! (v̄ = V) loses nothing, though its velocity after the force update is projected every step.
+//! (Taking the velocity after the force update instead of v̄, ½·m·|v* − V|², books f²·dt²/2m
+//! every step against a held node: a loss that the internal energy has already counted.)
+//! Units: g, mm/ms, g·mm/ms (impulse: N·ms), mJ.
+
+use crate::solver::engine::scene::Plate;
+use crate::solver::Real;
+use nalgebra::Vector3;
+
+/// A particle touches a plate when its edge is within this share of its half-size of the
+/// surface: far more than the few micrometres it moves in a step, far less than its size.
+pub const CONTACT_TOLERANCE: Real = 0.05;
+
+/// What contact did over one step, summed over nodes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactSums {
+    /// Normal impulse the tube received from each plate (top, bottom), N·ms, positive.
+    pub impulse: [Real; 2],
+    /// Work done by each plate (top, bottom) on the tube, J·V, mJ.
+    pub work: [Real; 2],
+    /// Energy dissipated by the normal part of the projection (the inelastic catch of nodes by
+    /// a plate), mJ.
+    pub catch: Real,
+    /// Energy dissipated by the tangential part (friction), mJ.
+    pub friction: Real,
+}
+
+impl ContactSums {
+    pub fn add(&mut self, o: &ContactSums) {
+        for k in 0..2 {
+            self.impulse[k] += o.impulse[k];
+            self.work[k] += o.work[k];
+        }
+        self.catch += o.catch;
+        self.friction += o.friction;
+    }
+}
+
+/// The plate law on a node velocity `v`: when it approaches `plate`, its normal component
+/// becomes the plate's and the tangential one loses at most μ times the normal change. Returns
+/// whether the node was in contact.
+#[inline]
+pub fn project(plate: &Plate, mu: Real, v: &mut Vector3<Real>) -> bool {
+    // Normal out of the tube towards the plate is (0, 0, side).
+    let approach = (v.z - plate.velocity) * plate.side;
+    if approach <= 0.0 {
+        return false;
+    }
+    v.z = plate.velocity;
+    if mu > 0.0 {
+        let slide = (v.x * v.x + v.y * v.y).sqrt();
+        if slide > 0.0 {
+            // Impulse that stops sliding is m·slide; Coulomb allows μ·m·approach.
+            let keep = (1.0 - mu * approach / slide).max(0.0);
+            v.x *= keep;
+            v.y *= keep;
+        }
+    }
+    true
+}
+
+/// [`project`] at a node of mass `m` in contact with plate `k`, with the books: `start` is the
+/// node's velocity at the start of the step (before the force update). See the module's note.
+#[inline]
+pub fn apply(
+    k: usize,
+    plate: &Plate,
+    mu: Real,
+    m: Real,
+    start: &Vector3<Real>,
+    v: &mut Vector3<Real>,
+    sums: &mut ContactSums,
+) {
+    let before = *v;
+    if !project(plate, mu, v) {
+        return;
+    }
+    let j = (*v - before) * m;
+    let mean = 0.5 * (start + *v);
+    sums.impulse[k] += -j.z * plate.side;
+    sums.work[k] += j.z * plate.velocity;
+    sums.catch += j.z * (plate.velocity - mean.z);
+    sums.friction -= j.x * mean.x + j.y * mean.y;
+}
+
+/// The plate a contact node obeys, from its touch lane (Σ m·N·side over the particles touching
+/// a plate): the top plate (side +1) when positive, the bottom one when negative; None when no
+/// touching particle reaches the node.
+#[inline]
+pub fn plate_of(plates: &[Plate], touch: Real) -> Option<usize> {
+    if touch == 0.0 {
+        return None;
+    }
+    plates.iter().position(|p| p.side * touch > 0.0)
+}
+
+/// The side of the plate a particle of half-size `half` (mm) centred at height `z` touches (its
+/// edge within `tolerance` mm of the surface, or past it), or 0 when it touches none. Plates are
+/// more than a particle apart while a crush runs, so a particle touches one plate at most.
+#[inline]
+pub fn touching(plates: &[Plate], z: Real, half: Real, tolerance: Real) -> Real {
+    plates
+        .iter()
+        .find(|p| (p.z - z) * p.side - half <= tolerance)
+        .map_or(0.0, |p| p.side)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn top(speed: Real) -> Plate {
+        Plate {
+            z: 10.0,
+            side: 1.0,
+            velocity: -speed,
+            full_velocity: -speed,
+        }
+    }
+
+    fn bottom() -> Plate {
+        Plate {
+            z: 0.0,
+            side: -1.0,
+            velocity: 0.0,
+            full_velocity: 0.0,
+        }
+    }
+
+    fn kinetic(m: Real, v: &Vector3<Real>) -> Real {
+        0.5 * m * v.norm_squared()
+    }
+
+    #[test]
+    fn approaching_node_takes_the_plate_normal_velocity() {
+        let start = Vector3::new(0.0, 0.0, 2.0);
+        let mut v = start;
+        let mut s = ContactSums::default();
+        apply(0, &top(5.0), 0.0, 2.0, &start, &mut v, &mut s);
+        assert_eq!(v.z, -5.0);
+        // impulse on the tube m·Δv = 2·(−7) downwards: the plate feels +14 N·ms
+        assert!((s.impulse[0] - 14.0).abs() < 1e-12);
+        // plate work = impulse · plate velocity = 14 · 5
+        assert!((s.work[0] - 70.0).abs() < 1e-12, "{s:?}");
+        // the catch of a node met at relative speed 7: ½·2·7² = 49, and the books close:
+        // work = Δ kinetic + catch
+        assert!((s.catch - 49.0).abs() < 1e-12, "{s:?}");
+        let gain = kinetic(2.0, &v) - kinetic(2.0, &start);
+        assert!((s.work[0] - gain - s.catch).abs() < 1e-12);
+    }
+
+    /// A node held against the plate (moving with it at the start of the step) whose force
+    /// update pushes it into the plate is projected back every step: that is no loss.
+    #[test]
+    fn a_held_node_books_no_catch() {
+        let start = Vector3::new(0.0, 0.0, -5.0);
+        let mut v = Vector3::new(0.0, 0.0, -4.0);
+        let mut s = ContactSums::default();
+        apply(0, &top(5.0), 0.0, 2.0, &start, &mut v, &mut s);
+        assert_eq!(v.z, -5.0);
+        assert_eq!(s.catch, 0.0);
+        assert!((s.work[0] - 2.0 * 5.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn receding_nodes_are_left_alone_and_only_touching_particles_touch() {
+        let mut v = Vector3::new(0.0, 0.0, -9.0);
+        assert!(!project(&top(5.0), 0.3, &mut v));
+        assert_eq!(v, Vector3::new(0.0, 0.0, -9.0));
+        // plate at z = 10: a particle of half-size 0.25 touches when its centre is at 9.75
+        let one = [top(5.0)];
+        assert_eq!(touching(&one, 9.75, 0.25, 1e-3), 1.0);
+        assert_eq!(touching(&one, 9.7, 0.25, 1e-3), 0.0);
+        assert_eq!(touching(&one, 10.2, 0.25, 1e-3), 1.0);
+        let both = [top(5.0), bottom()];
+        assert_eq!(touching(&both, 0.25, 0.25, 1e-3), -1.0);
+        // The plate a node obeys is the one its touching particles touch, wherever it stands.
+        assert_eq!(plate_of(&both, 0.3), Some(0));
+        assert_eq!(plate_of(&both, -0.3), Some(1));
+        assert_eq!(plate_of(&both, 0.0), None);
+    }
+
+    #[test]
+    fn friction_caps_the_tangential_impulse_at_mu_times_normal() {
+        // normal approach 1, slide 10, μ = 0.2: tangential impulse 0.2 → slide 9.8
+        let start = Vector3::new(10.0, 0.0, -1.0);
+        let mut v = start;
+        let mut s = ContactSums::default();
+        apply(0, &bottom(), 0.2, 1.0, &start, &mut v, &mut s);
+        assert!((v.x - 9.8).abs() < 1e-12 && v.z == 0.0);
+        // friction work = tangential impulse (0.2) × mean slip over the step (9.9)
+        assert!((s.friction - 0.2 * 9.9).abs() < 1e-12, "{s:?}");
+        // catch: ½·1·1²; the fixed plate does no work; the node lost exactly the two
+        assert!((s.catch - 0.5).abs() < 1e-12);
+        assert_eq!(s.work, [0.0, 0.0]);
+        let lost = kinetic(1.0, &start) - kinetic(1.0, &v);
+        assert!((lost - s.catch - s.friction).abs() < 1e-12);
+    }
+
+    /// What broke: friction was booked as m·(t0 − t1)·t1, so a node that sticks (t1 = 0) booked
+    /// nothing while it lost ½·m·t0².
+    #[test]
+    fn a_sticking_node_books_its_lost_tangential_energy() {
+        let start = Vector3::new(0.1, 0.0, -1.0);
+        let mut v = start;
+        let mut s = ContactSums::default();
+        apply(0, &bottom(), 0.2, 1.0, &start, &mut v, &mut s);
+        assert_eq!(v, Vector3::zeros());
+        assert!((s.friction - 0.5 * 0.1 * 0.1).abs() < 1e-15, "{s:?}");
+    }
+}
