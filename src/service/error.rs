@@ -1,7 +1,7 @@
 //! The one error type of the HTTP layer, answered as RFC 9457 `application/problem+json`.
 //! Internal failures are logged and answered with a generic detail: nothing internal leaks.
 
-use crate::solver::input::clip;
+use crate::solver::model::input::clip;
 use crate::solver::{CaseError, FieldError};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
