@@ -81,7 +81,7 @@ pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow:
         .collect();
     let strain: Vec<f32> = snapshot.plastic_strain.iter().map(|&e| e as f32).collect();
     let title = case.spec().label.as_deref().unwrap_or("final shape");
-    let png = crate::plot::tube_png(case, title, &position, &strain)?;
+    let png = crate::plot::tube_png(case.geometry(), title, &position, &strain)?;
     std::fs::write(path, png).with_context(|| format!("writing {}", path.display()))
 }
 

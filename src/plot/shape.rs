@@ -6,8 +6,7 @@
 //! projection, far particles drawn first. Lengths in mm.
 
 use super::font;
-use crate::solver::model::case::{LoadingMode, Model};
-use crate::solver::Case;
+use crate::solver::model::case::{Geometry, LoadingMode, Model};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::colors::colormaps::ViridisRGB;
@@ -125,9 +124,9 @@ fn strain_percentile(strain: &[f32]) -> f64 {
     *top as f64
 }
 
-/// The picture of a case's tube in its final state (`title` over it), as PNG bytes.
+/// The picture of a tube of `geometry` in its final state (`title` over it), as PNG bytes.
 pub fn tube_png(
-    case: &Case,
+    geometry: &Geometry,
     title: &str,
     position_mm: &[[f32; 3]],
     plastic_strain: &[f32],
@@ -138,10 +137,9 @@ pub fn tube_png(
         position_mm.len(),
         plastic_strain.len()
     );
-    let spec = case.spec();
-    let model = spec.discretization.model;
-    let h = case.spacing_mm();
-    let axis_x = spec.loading.mode == LoadingMode::Lateral;
+    let model = geometry.model;
+    let h = geometry.spacing_mm();
+    let axis_x = geometry.mode == LoadingMode::Lateral;
     if model == Model::ThreeD {
         return shape_png(&TubeShape {
             title,
@@ -153,7 +151,7 @@ pub fn tube_png(
             axis_x,
         });
     }
-    let (whole, whole_strain, whole_spacing) = whole_tube(case, position_mm, plastic_strain);
+    let (whole, whole_strain, whole_spacing) = whole_tube(geometry, position_mm, plastic_strain);
     // The axisymmetric section through the axis shows both walls: the section and its mirror.
     let (mut cut, mut cut_strain) = (position_mm.to_vec(), plastic_strain.to_vec());
     if model == Model::Axisymmetric {
@@ -186,18 +184,17 @@ const WHOLE_TUBE_POINTS: usize = 250_000;
 /// (l/2, y, z)), in copies about a particle spacing apart up to [`WHOLE_TUBE_POINTS`] in all.
 /// Also the side of the squares that close the gaps between copies, mm.
 fn whole_tube(
-    case: &Case,
+    geometry: &Geometry,
     position: &[[f32; 3]],
     strain: &[f32],
 ) -> (Vec<[f32; 3]>, Vec<f32>, f64) {
-    let spec = case.spec();
     let (h, d, l) = (
-        case.spacing_mm(),
-        spec.tube.mean_diameter_mm,
-        spec.tube.length_mm,
+        geometry.spacing_mm(),
+        geometry.section.width_mm(),
+        geometry.length_mm,
     );
     let budget = (WHOLE_TUBE_POINTS / position.len().max(1)).max(2);
-    let axisymmetric = spec.discretization.model == Model::Axisymmetric;
+    let axisymmetric = geometry.model == Model::Axisymmetric;
     let copies = if axisymmetric {
         ((std::f64::consts::TAU * d / h).round() as usize).clamp(2, budget)
     } else {
@@ -485,18 +482,20 @@ mod tests {
     /// around the axis (at most the budget of points), or extruded along it.
     #[test]
     fn a_section_is_drawn_as_its_whole_tube() {
-        use crate::solver::{engine::scene::lattice_positions, Limits};
+        use crate::solver::{Case, Limits};
         for text in [
             r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 2}}"#,
             r#"{"loading": {"mode": "lateral"}, "discretization": {"model": "plane_strain"}}"#,
         ] {
             let case = Case::from_json(text, &Limits::default()).unwrap();
-            let x: Vec<[f32; 3]> = lattice_positions(&case)
+            let x: Vec<[f32; 3]> = case
+                .geometry()
+                .positions()
                 .iter()
                 .map(|p| p.map(|v| v as f32))
                 .collect();
             let e = vec![0.5f32; x.len()];
-            let (whole, strain, gap) = whole_tube(&case, &x, &e);
+            let (whole, strain, gap) = whole_tube(case.geometry(), &x, &e);
             assert!(
                 whole.len() > 10 * x.len() && whole.len() <= WHOLE_TUBE_POINTS,
                 "{text}"
@@ -512,7 +511,7 @@ mod tests {
                     assert_eq!((p[1], p[2]), (q[1], q[2]));
                 }
             }
-            let png = tube_png(&case, "t", &x, &e).unwrap();
+            let png = tube_png(case.geometry(), "t", &x, &e).unwrap();
             assert!(image::load_from_memory(&png).is_ok());
         }
     }

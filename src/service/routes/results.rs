@@ -8,8 +8,8 @@ use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
-use crate::solver::engine::scene::{lattice_positions, symmetry_note};
-use crate::solver::{Case, HistoryRow, Limits};
+use crate::solver::model::case::{spec_from_json, Geometry};
+use crate::solver::HistoryRow;
 use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
@@ -34,19 +34,22 @@ async fn succeeded(s: &AppState, id: &str, why: &str) -> Result<JobRecord, ApiEr
     Ok(record)
 }
 
-/// A succeeded job, its case and its final particle state; 404 when the case kept none.
+/// A succeeded job, the geometry of its tube and its final particle state; 404 when the case
+/// kept none. The stored case was checked when it was submitted: only its text is read here,
+/// so a case that later checks refuse still has its pictures.
 async fn final_state(
     s: &AppState,
     id: &str,
     what: &str,
-) -> Result<(JobRecord, Case, FinalState), ApiError> {
+) -> Result<(JobRecord, Geometry, FinalState), ApiError> {
     let why = format!("its {what} is made from the final state stored when it succeeds");
     let record = succeeded(s, id, &why).await?;
     let corrupt = |m: String| ApiError::internal(std::io::Error::other(m));
-    let case = Case::from_json(&record.case_json, &Limits::unbounded())
+    let spec = spec_from_json(&record.case_json)
         .map_err(|e| corrupt(format!("stored case of job {id}: {e}")))?;
+    let geometry = Geometry::of(&spec);
     let Some((particles, bytes)) = s.store.final_state(record.id).await? else {
-        let why = if case.spec().output.final_state {
+        let why = if spec.output.final_state {
             "it finished before this server kept final states"
         } else {
             "its case set output.final_state = false, so none was kept"
@@ -57,7 +60,7 @@ async fn final_state(
     };
     let state = state::decode(particles, &bytes)
         .ok_or_else(|| corrupt(format!("stored final state of job {id} has a wrong length")))?;
-    Ok((record, case, state))
+    Ok((record, geometry, state))
 }
 
 fn title(record: &JobRecord) -> String {
@@ -113,11 +116,12 @@ pub async fn shape_png(
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
     let _permit = heavy_permit(&s).await?;
-    let (record, case, state) = final_state(&s, &id, "picture").await?;
+    let (record, geometry, state) = final_state(&s, &id, "picture").await?;
     let title = format!("{} — final shape", title(&record));
-    let png =
-        render(move || plot::tube_png(&case, &title, &state.position_mm, &state.plastic_strain))
-            .await?;
+    let png = render(move || {
+        plot::tube_png(&geometry, &title, &state.position_mm, &state.plastic_strain)
+    })
+    .await?;
     Ok(file_response("image/png", None, Some(CACHE), png))
 }
 
@@ -131,7 +135,7 @@ pub async fn state_vtu(
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
     let permit = heavy_permit(&s).await?;
-    let (_, case, state) = final_state(&s, &id, "VTU file").await?;
+    let (_, geometry, state) = final_state(&s, &id, "VTU file").await?;
     let (tx, rx) = tokio::sync::mpsc::channel(2);
     tokio::task::spawn_blocking(move || {
         let _permit = permit;
@@ -139,8 +143,8 @@ pub async fn state_vtu(
             tx,
             buffer: Vec::with_capacity(CHUNK),
         };
-        let note = symmetry_note(&case);
-        let written = state::write_vtu(&mut sink, &lattice_positions(&case), &state, note)
+        let note = geometry.symmetry_note();
+        let written = state::write_vtu(&mut sink, &geometry.positions(), &state, note)
             .and_then(|()| std::io::Write::flush(&mut sink));
         if let Err(e) = written {
             if e.kind() != std::io::ErrorKind::BrokenPipe {

@@ -429,11 +429,9 @@ fn parse_uuid(s: &str) -> Result<Uuid> {
 /// `summarize`, so it keeps up with new fields), for tests of what the store keeps.
 #[cfg(test)]
 pub(crate) fn sample_summary() -> crate::solver::Summary {
-    use crate::solver::{
-        engine::scene::lattice_positions, summarize, Case, Limits, RunCost, Snapshot,
-    };
+    use crate::solver::{summarize, Case, Limits, RunCost, Snapshot};
     let case = Case::from_json("{}", &Limits::default()).unwrap();
-    let at_rest = lattice_positions(&case);
+    let at_rest = case.geometry().positions();
     let snapshot = Snapshot {
         plastic_strain: vec![0.0; at_rest.len()],
         position_mm: at_rest.clone(),

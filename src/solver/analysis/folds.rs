@@ -27,8 +27,7 @@
 //! each lobe's peak shows there, about twice the folds visible in the sections.
 
 use crate::solver::engine::Snapshot;
-use crate::solver::model::case::Case;
-use crate::solver::model::case::{LoadingMode, Model};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
 
 /// The rise and fall of the outer profile that makes a fold, in wall thicknesses. Measured:
@@ -49,17 +48,18 @@ pub const SECTORS: usize = 16;
 
 /// The number of folds of an axial crush from its final shape; 0 for lateral loading.
 pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
-    let spec = case.spec();
-    if spec.loading.mode == LoadingMode::Lateral {
+    let geometry = case.geometry();
+    if geometry.mode == LoadingMode::Lateral {
         return 0;
     }
-    let (t, d) = (spec.tube.thickness_mm, spec.tube.mean_diameter_mm);
-    if spec.discretization.model == Model::Axisymmetric {
+    let section = geometry.section;
+    let t = section.thickness_mm();
+    if geometry.model == Model::Axisymmetric {
         // The section is one wall line: its reach is the radius itself.
-        let line = section_line(snapshot, case.spacing_mm(), 0.5 * (d + t));
+        let line = section_line(snapshot, case.spacing_mm(), section.outer_mm());
         return count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t);
     }
-    let lines = wall_lines(snapshot, case.spacing_mm(), 0.5 * (d + t));
+    let lines = wall_lines(snapshot, case.spacing_mm(), &section);
     let count = |line: &Vec<Real>| match line.is_empty() {
         true => None,
         false => Some(count_bumps(
@@ -82,9 +82,11 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
 }
 
 /// Per sector of the material angle, per material slice of width `h` along z (bottom to top,
-/// empty slices left out): the largest distance in x–y of the slice's particles in that
-/// sector from the slice's current centroid, less `outer`.
-fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
+/// empty slices left out): the largest reach of the slice's particles in that sector from the
+/// slice's current centroid, beyond the section's undeformed outer surface (its wall-line
+/// metric).
+fn wall_lines(snapshot: &Snapshot, h: Real, section: &CrossSection) -> Vec<Vec<Real>> {
+    let outer = section.outer_mm();
     let pairs = || {
         snapshot
             .initial_mm
@@ -103,7 +105,7 @@ fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
     let slices = ((hi - lo) / h).round() as usize + 1;
     let slice = |a: &[Real; 3]| (((a[2] - lo) / h).round() as usize).min(slices - 1);
     let sector = |a: &[Real; 3]| {
-        let turn = (a[1] - ay).atan2(a[0] - ax) / std::f64::consts::TAU + 0.5;
+        let turn = section.angle(a[0] - ax, a[1] - ay) / std::f64::consts::TAU + 0.5;
         ((turn * SECTORS as Real) as usize).min(SECTORS - 1)
     };
     let mut centroid = vec![(0usize, 0.0, 0.0); slices];
@@ -115,7 +117,7 @@ fn wall_lines(snapshot: &Snapshot, h: Real, outer: Real) -> Vec<Vec<Real>> {
     for (a, p) in pairs() {
         let k = slice(a);
         let (m, x, y) = centroid[k];
-        let r = (p[0] - x / m as Real).hypot(p[1] - y / m as Real);
+        let r = section.reach(p[0] - x / m as Real, p[1] - y / m as Real);
         let cell = &mut reach[sector(a)][k];
         *cell = cell.max(r);
     }

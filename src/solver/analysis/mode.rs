@@ -32,7 +32,7 @@
 //! [`CollapseMode::Flattening`]; its detail is computed the same way about the x axis.
 
 use crate::solver::engine::Snapshot;
-use crate::solver::model::case::{Case, LoadingMode, Model};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
 use serde::{Deserialize, Serialize};
 
@@ -138,11 +138,12 @@ impl Slice {
 
 /// The collapse mode of a finished run and the numbers behind it.
 pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetail) {
-    let spec = case.spec();
-    let d = spec.tube.mean_diameter_mm;
-    let t = spec.tube.thickness_mm;
+    let geometry = case.geometry();
+    let section = geometry.section;
+    let d = section.width_mm();
+    let t = section.thickness_mm();
     // (axial, lateral a, lateral b) component indices.
-    let axes = match spec.loading.mode {
+    let axes = match geometry.mode {
         LoadingMode::Axial => [2, 0, 1],
         LoadingMode::Lateral => [0, 1, 2],
     };
@@ -151,13 +152,13 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         harmonic_amplitude_mm: vec![0.0; MAX_HARMONIC + 1],
         ..Default::default()
     };
-    if spec.discretization.model == Model::Axisymmetric {
+    if geometry.model == Model::Axisymmetric {
         return (
             CollapseMode::Ring,
             axisymmetric_detail(case, snapshot, detail),
         );
     }
-    let slices = slice_up(snapshot, axes, case.spacing_mm(), &mut detail);
+    let slices = slice_up(snapshot, &section, axes, case.spacing_mm(), &mut detail);
     detail.slices = slices.len() as u32;
 
     let max_rms = slices.iter().map(Slice::rms).fold(0.0, Real::max);
@@ -178,7 +179,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     }
     detail.max_drift_mm = max_drift(&slices).max(max_axis_offset(&slices));
 
-    if spec.loading.mode == LoadingMode::Lateral {
+    if geometry.mode == LoadingMode::Lateral {
         detail.reason = "lateral loading: the tube is flattened across a diameter".into();
         return (CollapseMode::Flattening, detail);
     }
@@ -234,7 +235,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
 /// other harmonics and the drift are zero by the model's symmetry.
 fn axisymmetric_detail(case: &Case, snapshot: &Snapshot, mut detail: ModeDetail) -> ModeDetail {
     let h = case.spacing_mm();
-    let t = case.spec().tube.thickness_mm;
+    let t = case.geometry().section.thickness_mm();
     let mut slices: Vec<(usize, Real, Real)> = Vec::new();
     for (x0, x) in snapshot.initial_mm.iter().zip(&snapshot.position_mm) {
         let k = (x0[2] / h).floor().max(0.0) as usize;
@@ -276,6 +277,7 @@ fn axisymmetric_detail(case: &Case, snapshot: &Snapshot, mut detail: ModeDetail)
 /// Bins particles by initial axial coordinate; keeps slices with enough particles, in axial order.
 fn slice_up(
     snapshot: &Snapshot,
+    section: &CrossSection,
     [ax, la, lb]: [usize; 3],
     h: Real,
     detail: &mut ModeDetail,
@@ -297,9 +299,9 @@ fn slice_up(
     for (p0, p) in pairs().filter(|(p0, p)| p0.iter().chain(p.iter()).all(|v| v.is_finite())) {
         let k = (((p0[ax] - lo) / width) as usize).min(count - 1);
         let s = &mut slices[k];
-        let r0 = p0[la].hypot(p0[lb]);
-        let w = p[la].hypot(p[lb]) - r0;
-        let theta = p0[lb].atan2(p0[la]);
+        let r0 = section.reach(p0[la], p0[lb]);
+        let w = section.reach(p[la], p[lb]) - r0;
+        let theta = section.angle(p0[la], p0[lb]);
         s.count += 1;
         s.axial_sum += p0[ax];
         s.centroid_sum[0] += p[la];

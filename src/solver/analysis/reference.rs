@@ -4,8 +4,7 @@
 //! d (or D) is the mean diameter, t the wall thickness, l the length, σy the yield stress and U the
 //! crush distance of the case. Each formula is the textbook one; none depends on the run.
 
-use crate::solver::model::case::Case;
-use crate::solver::model::case::LoadingMode;
+use crate::solver::model::case::{Case, CrossSection, LoadingMode};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -66,14 +65,17 @@ pub struct References {
     pub primary_n: f64,
 }
 
-/// Every reference load for `case`.
+/// Every reference load for `case`: the closed forms of a round tube, from its cross-section.
 pub fn references(case: &Case) -> References {
     let spec = case.spec();
-    let (t, d, l) = (
-        spec.tube.thickness_mm,
-        spec.tube.mean_diameter_mm,
-        spec.tube.length_mm,
-    );
+    let geometry = case.geometry();
+    let l = geometry.length_mm;
+    let (t, d) = match geometry.section {
+        CrossSection::Round {
+            thickness_mm,
+            mean_diameter_mm,
+        } => (thickness_mm, mean_diameter_mm),
+    };
     let (sy, e) = (
         spec.material.yield_stress_mpa,
         spec.material.youngs_modulus_mpa,
@@ -87,7 +89,7 @@ pub fn references(case: &Case) -> References {
     let deruntz_hodge_initial_n = deruntz_hodge(t, d, l, sy, 0.0);
     let deruntz_hodge_mean_n = deruntz_hodge_mean(t, d, l, sy, u);
     let euler_clamped_n = euler_clamped(t, d, l, e);
-    let (primary, primary_n) = match spec.loading.mode {
+    let (primary, primary_n) = match geometry.mode {
         LoadingMode::Axial => (Primary::AlexanderRing, alexander_ring_n),
         LoadingMode::Lateral => (
             Primary::DeruntzHodgeMean,

@@ -6,7 +6,7 @@
 use super::checkpoint::{Checkpoint, Resume, Tally};
 use super::history::HistoryRow;
 use super::observer::{Observer, Progress};
-use super::scene::{lattice_positions, reported, Scene, BOTTOM, TOP};
+use super::scene::{Scene, BOTTOM, TOP};
 use super::{simulate, Driver, Engine, SolveError};
 use crate::solver::model::case::Case;
 use crate::solver::Real;
@@ -200,10 +200,10 @@ impl Driver for Run<'_> {
             tally.kinetic = 0.0;
         }
         let p = &sim.scene().particles;
-        let (model, length) = (spec.discretization.model, spec.tube.length_mm);
+        let geometry = case.geometry();
         let snapshot = Snapshot {
-            initial_mm: lattice_positions(case),
-            position_mm: p.in_original_order(|i| reported(model, length, &p.x[i])),
+            initial_mm: geometry.positions(),
+            position_mm: p.in_original_order(|i| geometry.reported(&p.x[i])),
             plastic_strain: p.in_original_order(|i| p.plastic_strain[i]),
         };
         let mut cost = RunCost {

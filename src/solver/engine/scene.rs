@@ -11,63 +11,10 @@
 //! (volume area·l). Loads and energies are then those of the whole tube.
 
 use crate::solver::engine::particles::Particles;
-use crate::solver::model::case::{around, layers_along, Case, LoadingMode, MaterialModel, Model};
+use crate::solver::model::case::{Case, MaterialModel};
+pub use crate::solver::model::contact::{Plate, Ramp, BOTTOM, TOP};
 use crate::solver::model::material::Elastoplastic;
 use crate::solver::Real;
-use nalgebra::Vector3;
-use std::f64::consts::PI;
-
-/// A rigid plate normal to z, of infinite mass, moving at a prescribed velocity.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plate {
-    /// z of the surface, mm.
-    pub z: Real,
-    /// +1 when the tube lies below the plate (the top plate), −1 when above (the bottom plate):
-    /// the z component of the normal pointing out of the tube towards the plate.
-    pub side: Real,
-    /// z velocity now, mm/ms (below `full_velocity` while the plate comes up to speed).
-    pub velocity: Real,
-    /// z velocity once up to speed, mm/ms.
-    pub full_velocity: Real,
-}
-
-/// How the moving plate comes up to speed: its velocity rises linearly in time from 0 to full
-/// over `ms`, in which it travels `ms`·speed/2; then it stays. A plate that starts at full speed
-/// against a tube at rest is an impact: it sends a stress wave ρ·c·v into the wall (about
-/// 400 MPa for steel at 10 m/s, above yield) that no quasi-static test has.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Ramp {
-    /// Duration of the ramp, ms; 0 for a plate that starts at full speed.
-    pub ms: Real,
-}
-
-impl Ramp {
-    /// The ramp over which a plate at `speed` (mm/ms) travels `mm`.
-    pub fn over(mm: Real, speed: Real) -> Ramp {
-        Ramp {
-            ms: if mm > 0.0 { 2.0 * mm / speed } else { 0.0 },
-        }
-    }
-
-    /// ∫₀ᵗ velocity / full velocity: the time at full speed that gives the same travel, ms.
-    pub fn full_speed_time(&self, t: Real) -> Real {
-        if t < self.ms {
-            t * t / (2.0 * self.ms)
-        } else {
-            t - 0.5 * self.ms
-        }
-    }
-
-    /// The time at which the travel equals that of `tau` ms at full speed (the inverse of
-    /// [`Ramp::full_speed_time`]), ms.
-    pub fn time_at(&self, tau: Real) -> Real {
-        if tau < 0.5 * self.ms {
-            (2.0 * self.ms * tau).sqrt()
-        } else {
-            tau + 0.5 * self.ms
-        }
-    }
-}
 
 /// Everything the engine needs; tests build their own.
 #[derive(Debug, Clone)]
@@ -91,55 +38,24 @@ pub struct Scene {
     pub ramp: Ramp,
 }
 
-/// Index of the top (moving) plate and the bottom (fixed) plate in `Scene::plates`.
-pub const TOP: usize = 0;
-pub const BOTTOM: usize = 1;
-
 impl Scene {
     /// The tube and plates a case describes, with the trigger's weak particles.
     pub fn from_case(case: &Case) -> Scene {
         let spec = case.spec();
-        let (t, d, l) = (
-            spec.tube.thickness_mm,
-            spec.tube.mean_diameter_mm,
-            spec.tube.length_mm,
-        );
+        let geometry = case.geometry();
         let h = case.spacing_mm();
         let rho = spec.material.density_kg_m3 * 1e-6;
-        let n = spec.discretization.particles_through_thickness;
-        let model = spec.discretization.model;
-        let particles = match model {
-            Model::ThreeD => tube_lattice(t, d, l, n, rho, spec.loading.mode),
-            Model::Axisymmetric | Model::PlaneStrain => section_lattice(t, d, l, n, rho, model),
-        };
+        let mut particles = Particles::default();
+        particles.x.reserve_exact(case.particle_count() as usize);
+        geometry.each_point(|x, vol| particles.push(x, rho * vol, vol));
         let m = &spec.material;
         let yield_stress = match m.model {
             MaterialModel::J2 => m.yield_stress_mpa,
             MaterialModel::Elastic => Real::INFINITY,
         };
         let speed = spec.loading.plate_speed_m_s;
-        let outer = (d + t) / 2.0;
-        let (top, bottom) = match spec.loading.mode {
-            LoadingMode::Axial => (l, 0.0),
-            LoadingMode::Lateral => (outer, -outer),
-        };
-        let reach = outer + l;
+        let (top, bottom) = geometry.plates_z();
         let cell = case.cell_mm();
-        let margin = 3.0 * cell;
-        let domain = match (model, spec.loading.mode) {
-            (Model::ThreeD, LoadingMode::Axial) => {
-                [[-reach, -reach, -margin], [reach, reach, l + margin]]
-            }
-            (Model::ThreeD, LoadingMode::Lateral) => [
-                [-reach, -reach, -outer - margin],
-                [l + reach, reach, outer + margin],
-            ],
-            // A particle reaching the axis would divide by r = 0 in its hoop strain rate.
-            (_, LoadingMode::Axial) => [[0.0, 0.0, -margin], [reach, 0.0, l + margin]],
-            (_, LoadingMode::Lateral) => {
-                [[-reach, 0.0, -outer - margin], [reach, 0.0, outer + margin]]
-            }
-        };
         let mut scene = Scene {
             particles,
             material: Elastoplastic::new(m.youngs_modulus_mpa, m.poisson_ratio, yield_stress),
@@ -163,7 +79,7 @@ impl Scene {
             half_size: 0.5 * h,
             cfl: spec.discretization.cfl,
             average_volumetric: spec.discretization.volumetric_averaging,
-            domain,
+            domain: geometry.domain(cell),
             ramp: Ramp::over(case.ramp_mm(), speed),
         };
         let trigger = &spec.trigger;
@@ -201,175 +117,6 @@ impl Scene {
     }
 }
 
-/// The tube's particle positions before the crush, mm, in the case's particle order (the order
-/// of [`crate::solver::Snapshot`]).
-pub fn lattice_positions(case: &Case) -> Vec<[Real; 3]> {
-    let spec = case.spec();
-    // Only the positions: the full particle set is hundreds of bytes a particle, and this is
-    // what every state download rebuilds (tests/api_download.rs).
-    let (t, d, l) = (
-        spec.tube.thickness_mm,
-        spec.tube.mean_diameter_mm,
-        spec.tube.length_mm,
-    );
-    let n = spec.discretization.particles_through_thickness;
-    let model = spec.discretization.model;
-    if model != Model::ThreeD {
-        return section_points(t, d, l, n, model)
-            .iter()
-            .map(|(x, _)| reported(model, l, x))
-            .collect();
-    }
-    let lattice = Lattice::new(t, d, l, n);
-    let mut x = Vec::with_capacity(lattice.len());
-    x.extend(
-        lattice
-            .points(spec.loading.mode)
-            .map(|(x, _)| [x.x, x.y, x.z]),
-    );
-    x
-}
-
-/// The particle lattice of a tube wall: `n` layers through the thickness at spacing h = t/n;
-/// each layer at mid-radius r holds round(2πr/h) particles around and round(l/h) along. Each
-/// particle's volume is its exact annular sector, so the volumes add up to π d t l.
-struct Lattice {
-    /// Per layer: mid-radius (mm), particles around, volume of each (mm³).
-    rings: Vec<(Real, usize, Real)>,
-    along: usize,
-    dz: Real,
-}
-
-impl Lattice {
-    fn new(t: Real, d: Real, l: Real, n: u32) -> Lattice {
-        let h = t / n as Real;
-        let inner = d / 2.0 - t / 2.0;
-        let along = layers_along(l, h) as usize;
-        let dz = l / along as Real;
-        let rings = (0..n)
-            .map(|j| {
-                let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-                let r = 0.5 * (r0 + r1);
-                let count = around(r, h) as usize;
-                (
-                    r,
-                    count,
-                    0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
-                )
-            })
-            .collect();
-        Lattice { rings, along, dz }
-    }
-
-    fn len(&self) -> usize {
-        self.rings.iter().map(|r| r.1).sum::<usize>() * self.along
-    }
-
-    /// Each particle's centre and volume, axial position outermost, then angle, then radius:
-    /// neighbours in space stay near in memory.
-    fn points(&self, mode: LoadingMode) -> impl Iterator<Item = (Vector3<Real>, Real)> + '_ {
-        (0..self.along).flat_map(move |k| {
-            let s = (k as Real + 0.5) * self.dz;
-            self.rings.iter().flat_map(move |&(r, count, vol)| {
-                (0..count).map(move |i| {
-                    let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                    let (c, sn) = (r * th.cos(), r * th.sin());
-                    let x = match mode {
-                        LoadingMode::Axial => Vector3::new(c, sn, s),
-                        LoadingMode::Lateral => Vector3::new(s, c, sn),
-                    };
-                    (x, vol)
-                })
-            })
-        })
-    }
-}
-
-/// The section a reduced model runs, as the engine holds it: per particle its centre in the
-/// x–z plane and the volume it stands for (see the module's note), mm and mm³. Axisymmetric:
-/// n layers through the wall by round(l/h) along, each the annulus π(r₁² − r₀²)·dz. Plane
-/// strain: the rings of [`Lattice`] in the y–z cross-section (y as x), each sector times l,
-/// ordered by angle.
-fn section_points(t: Real, d: Real, l: Real, n: u32, model: Model) -> Vec<(Vector3<Real>, Real)> {
-    let lattice = Lattice::new(t, d, l, n);
-    let h = t / n as Real;
-    let inner = d / 2.0 - t / 2.0;
-    match model {
-        Model::Axisymmetric => (0..lattice.along)
-            .flat_map(|k| {
-                let z = (k as Real + 0.5) * lattice.dz;
-                (0..n).map(move |j| {
-                    let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-                    let vol = PI * (r1 * r1 - r0 * r0) * lattice.dz;
-                    (Vector3::new(0.5 * (r0 + r1), 0.0, z), vol)
-                })
-            })
-            .collect(),
-        Model::PlaneStrain | Model::ThreeD => {
-            let mut points: Vec<(Real, Vector3<Real>, Real)> = lattice
-                .rings
-                .iter()
-                .flat_map(|&(r, count, vol)| {
-                    (0..count).map(move |i| {
-                        let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                        let x = Vector3::new(r * th.cos(), 0.0, r * th.sin());
-                        (th, x, vol / lattice.dz * l)
-                    })
-                })
-                .collect();
-            // Around the ring, then out through the wall: a run of particles is an arc, and
-            // the scatter's patch over it small.
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            points.into_iter().map(|(_, x, vol)| (x, vol)).collect()
-        }
-    }
-}
-
-/// Particles of a reduced model's section (see [`section_points`]), of density `rho`.
-pub fn section_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, model: Model) -> Particles {
-    let mut p = Particles::default();
-    for (x, vol) in section_points(t, d, l, n, model) {
-        p.push(x, rho * vol, vol);
-    }
-    p
-}
-
-/// Where outputs put an engine position: the 3D scene's coordinates. Axisymmetric: (r, 0, z),
-/// the section at angle 0. Plane strain: the cross-section at mid-length, (l/2, x, z).
-pub fn reported(model: Model, length: Real, x: &Vector3<Real>) -> [Real; 3] {
-    match model {
-        Model::ThreeD | Model::Axisymmetric => [x.x, x.y, x.z],
-        Model::PlaneStrain => [0.5 * length, x.x, x.z],
-    }
-}
-
-/// What the points of a reduced model's outputs are, for a reader of the files: None for 3D.
-pub fn symmetry_note(case: &Case) -> Option<&'static str> {
-    match case.spec().discretization.model {
-        Model::ThreeD => None,
-        Model::Axisymmetric => Some(
-            "axisymmetric model: the points are the (r, z) section at angle 0 (x = r, y = 0); \
-             each stands for its ring about the z axis, and the tube is this section revolved",
-        ),
-        Model::PlaneStrain => Some(
-            "plane-strain model: the points are the cross-section at mid-length (x = l/2); each \
-             stands for a line of material along the tube axis x, and the tube is this section \
-             extruded over its length",
-        ),
-    }
-}
-
-/// Particles of a tube wall laid out as [`Lattice`] says, of density `rho`.
-pub fn tube_lattice(t: Real, d: Real, l: Real, n: u32, rho: Real, mode: LoadingMode) -> Particles {
-    let lattice = Lattice::new(t, d, l, n);
-    let mut p = Particles::default();
-    p.x.reserve_exact(lattice.len());
-    for (x, vol) in lattice.points(mode) {
-        p.push(x, rho * vol, vol);
-    }
-    p
-}
-
 /// `k` distinct indices below `n`, drawn by a seeded partial Fisher–Yates shuffle. The generator
 /// is SplitMix64, written out so that a seed means the same particles in every build.
 fn choose(n: usize, k: usize, seed: u64) -> Vec<usize> {
@@ -394,17 +141,6 @@ fn choose(n: usize, k: usize, seed: u64) -> Vec<usize> {
 mod tests {
     use super::*;
     use crate::solver::model::case::Limits;
-
-    #[test]
-    fn lattice_volumes_add_up_to_the_wall() {
-        let (t, d, l) = (3.2, 22.2, 76.2);
-        for mode in [LoadingMode::Axial, LoadingMode::Lateral] {
-            let p = tube_lattice(t, d, l, 4, 1.38e-3, mode);
-            let vol: Real = p.vol.iter().sum();
-            let exact = PI * d * t * l;
-            assert!((vol / exact - 1.0).abs() < 1e-12, "{vol} vs {exact}");
-        }
-    }
 
     #[test]
     fn scene_counts_what_the_case_promised() {

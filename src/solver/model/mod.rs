@@ -6,6 +6,12 @@
 //! The ground floor: imports nothing of the engine or the analysis.
 
 pub mod case;
+mod checks;
 pub mod contact;
+mod cost;
+pub mod geometry;
 pub mod input;
+pub mod limits;
 pub mod material;
+pub mod policy;
+pub mod spec;

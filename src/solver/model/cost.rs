@@ -1,0 +1,120 @@
+//! What a case costs — its particles and its explicit steps — and the check of both against
+//! the caller's [`Limits`], each over-limit cost naming every field that drives it.
+
+use super::checks::Checker;
+use super::geometry::Geometry;
+use super::limits::{Limits, PARTICLE_ID_LIMIT};
+use super::spec::{wave_speed_m_s, CaseSpec};
+
+/// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
+/// least one per history row.
+fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
+    let d = &spec.discretization;
+    let cell =
+        spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
+    let speed = spec.loading.plate_speed_m_s;
+    let dt_ms = d.cfl * cell / (wave_speed_m_s(&spec.material) + speed);
+    let steps = crush_mm / speed / dt_ms;
+    // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
+    // underflow over a Δt of 0) is too many, not one (both found by tests/case_fuzz.rs).
+    if steps.is_nan() {
+        f64::INFINITY
+    } else {
+        // The run ends each history interval on a step of its own.
+        steps.ceil().max(spec.output.history_points as f64).max(1.0)
+    }
+}
+
+/// Fields that set the particle count.
+pub(super) const PARTICLE_FIELDS: &[&str] = &[
+    "tube.thickness_mm",
+    "tube.mean_diameter_mm",
+    "tube.length_mm",
+    "discretization.particles_through_thickness",
+];
+
+/// Fields that set the step count: the duration crush / v over Δt = α · k · t / n / (c + v),
+/// with the wave speed c from E, ν and ρ.
+pub(super) const STEP_FIELDS: &[&str] = &[
+    "loading.plate_speed_m_s",
+    "loading.crush_distance_mm",
+    "discretization.cfl",
+    "discretization.cell_to_particle_ratio",
+    "discretization.particles_through_thickness",
+    "tube.thickness_mm",
+    "material.youngs_modulus_mpa",
+    "material.poisson_ratio",
+    "material.density_kg_m3",
+];
+
+/// A count for a message: whole below a billion, else in scientific notation.
+fn count(x: f64) -> String {
+    if !x.is_finite() {
+        "more than 1.8e308".into()
+    } else if x < 1e9 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+impl Checker {
+    /// Particles and steps of a case whose fields each passed, or the fields that drive
+    /// whichever cost is over its limit, each named with the estimate.
+    pub(super) fn costs(
+        &mut self,
+        spec: &CaseSpec,
+        geometry: &Geometry,
+        crush: f64,
+        limits: &Limits,
+    ) -> (Option<u64>, Option<u64>) {
+        let max_particles = limits.max_particles.min(PARTICLE_ID_LIMIT);
+        let particles = geometry.count_f64();
+        let particles = if particles.is_finite() && particles <= max_particles as f64 {
+            Some(geometry.count())
+        } else {
+            self.fail_all(
+                PARTICLE_FIELDS,
+                &format!(
+                    "gives {} particles, more than this runner's limit of {max_particles} \
+                     (the count grows as mean_diameter_mm · length_mm · n² / thickness_mm²)",
+                    count(particles)
+                ),
+            );
+            None
+        };
+        let steps = steps_f64(spec, crush);
+        let steps = if steps.is_finite() && steps <= limits.max_steps as f64 {
+            Some(steps as u64)
+        } else {
+            self.fail_all(
+                STEP_FIELDS,
+                &format!(
+                    "gives {} time steps, more than this runner's limit of {} (steps = \
+                     crush distance / plate speed / Δt, Δt = cfl · cell / (wave speed + plate \
+                     speed), cell = k · thickness / n)",
+                    count(steps),
+                    limits.max_steps
+                ),
+            );
+            None
+        };
+        if let (Some(p), Some(s)) = (particles, steps) {
+            let work = p as f64 * s as f64;
+            if work > limits.max_particle_steps as f64 {
+                let mut fields: Vec<&str> = PARTICLE_FIELDS.to_vec();
+                fields.extend(STEP_FIELDS.iter().filter(|f| !PARTICLE_FIELDS.contains(f)));
+                self.fail_all(
+                    &fields,
+                    &format!(
+                        "gives {p} particles × {s} time steps = {} particle-steps, more than \
+                         this runner's limit of {}",
+                        count(work),
+                        limits.max_particle_steps
+                    ),
+                );
+            }
+        }
+        (particles, steps)
+    }
+}

@@ -1,0 +1,357 @@
+//! The case as a user writes it: the JSON types (serde; units in the field names: mm, MPa,
+//! kg/m³, m/s), their defaults, and the reading of a case's text into them. Nothing here is
+//! checked beyond types: [`super::case::Case::parse`] does that.
+//!
+//! Omitted fields take the PVC defaults of the design page (t = 3.2 mm, d = 22.2 mm, l = 76.2 mm,
+//! E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the density is our assumption, the
+//! source gives none; rigid PVC lies between 1300 and 1450 kg/m³).
+
+use super::input::{clip, clip_quoted, object, object_from_str};
+use super::limits::CaseError;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+/// Whole case as written by a user. Every section and field may be omitted.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct CaseSpec {
+    /// Free text carried along with the case (not used by the physics).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
+    #[serde(deserialize_with = "object")]
+    pub tube: Tube,
+    #[serde(deserialize_with = "object")]
+    pub material: Material,
+    #[serde(deserialize_with = "object")]
+    pub loading: Loading,
+    #[serde(deserialize_with = "object")]
+    pub contact: Contact,
+    #[serde(deserialize_with = "object")]
+    pub discretization: Discretization,
+    #[serde(deserialize_with = "object")]
+    pub trigger: Trigger,
+    #[serde(deserialize_with = "object")]
+    pub output: Output,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Tube {
+    /// Wall thickness t.
+    pub thickness_mm: f64,
+    /// Mean diameter d, measured at the wall's mid-surface.
+    pub mean_diameter_mm: f64,
+    /// Length l along the tube axis.
+    pub length_mm: f64,
+}
+
+impl Default for Tube {
+    fn default() -> Self {
+        Tube {
+            thickness_mm: 3.2,
+            mean_diameter_mm: 22.2,
+            length_mm: 76.2,
+        }
+    }
+}
+
+/// Constitutive model of the wall.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialModel {
+    /// Elastic–perfectly plastic, von Mises (J2) yield, radial return.
+    #[default]
+    J2,
+    /// Linear elastic, never yields (a stability check, not a crash material).
+    Elastic,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Material {
+    pub model: MaterialModel,
+    pub youngs_modulus_mpa: f64,
+    pub poisson_ratio: f64,
+    pub yield_stress_mpa: f64,
+    pub density_kg_m3: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            model: MaterialModel::J2,
+            youngs_modulus_mpa: 3378.4,
+            poisson_ratio: 0.42,
+            yield_stress_mpa: 65.5,
+            density_kg_m3: 1380.0,
+        }
+    }
+}
+
+/// How the plates meet the tube.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadingMode {
+    /// Plates normal to the tube axis.
+    #[default]
+    Axial,
+    /// Tube lying between the plates, flattened across a diameter.
+    Lateral,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Loading {
+    pub mode: LoadingMode,
+    /// Constant speed of the moving (top) plate; the bottom plate is fixed.
+    pub plate_speed_m_s: f64,
+    /// How far the top plate travels. Omitted: 50 mm axial, 12.5 mm lateral.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crush_distance_mm: Option<f64>,
+    /// Travel over which the top plate comes up to speed (its velocity rising linearly in
+    /// time), mm; 0 starts it at full speed, an impact. Part of the crush distance, at most
+    /// all of it. Omitted: [`DEFAULT_RAMP_MM`], or half the crush distance if that is less.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ramp_mm: Option<f64>,
+}
+
+/// The default plate-speed ramp, mm: the shortest of those measured that brings the start
+/// peak of a mild-steel tube within 2.5 % of a ramp twice as long (`docs/validation.md` §6).
+pub const DEFAULT_RAMP_MM: f64 = 0.5;
+
+impl Default for Loading {
+    fn default() -> Self {
+        Loading {
+            mode: LoadingMode::Axial,
+            plate_speed_m_s: 10.0,
+            crush_distance_mm: None,
+            ramp_mm: None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Contact {
+    /// Coulomb friction coefficient μ between tube and plates.
+    pub friction: f64,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Contact { friction: 0.02 }
+    }
+}
+
+/// Shape functions of the background grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeKind {
+    /// Trilinear hat functions (standard MPM).
+    Linear,
+    /// Uniform GIMP: the particle is a box of side h that never changes.
+    Gimp,
+}
+
+impl ShapeKind {
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Linear => "linear",
+            ShapeKind::Gimp => "gimp",
+        }
+    }
+}
+
+/// Which kinematics the solver models. The reduced models run the tube's section (the same
+/// particles, grid, shape functions, contact and material as 3D, on two axes) and report
+/// whole-tube loads and energies; they show only what their symmetry allows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Model {
+    /// The whole tube in 3D.
+    #[default]
+    #[serde(rename = "3d")]
+    ThreeD,
+    /// The (r, z) half-plane of an axially loaded tube: every ring mode, no lobes, no buckling.
+    #[serde(rename = "axisymmetric")]
+    Axisymmetric,
+    /// The cross-section of a laterally loaded tube, ε along the axis zero: no end effects.
+    #[serde(rename = "plane_strain")]
+    PlaneStrain,
+}
+
+impl Model {
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::ThreeD => "3d",
+            Model::Axisymmetric => "axisymmetric",
+            Model::PlaneStrain => "plane_strain",
+        }
+    }
+
+    /// The largest n the model accepts: a section holds n² / (3D's n²·π d / t) of the particles,
+    /// so the reduced models can go far finer than 3D for the same cost.
+    pub fn max_particles_through_thickness(self) -> u32 {
+        match self {
+            Model::ThreeD => 16,
+            Model::Axisymmetric | Model::PlaneStrain => 64,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Discretization {
+    /// n: particles through the wall; the particle spacing is h = t / n in every direction.
+    #[serde(deserialize_with = "whole::<_, u32>")]
+    pub particles_through_thickness: u32,
+    /// k: background cell size = k · h.
+    pub cell_to_particle_ratio: f64,
+    /// α in Δt = α · cell / max(c + |v|).
+    pub cfl: f64,
+    /// Omitted: chosen by the wall and the model ([`ShapeKind::default_for`]);
+    /// [`super::case::Case::shape`] is the one that runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeKind>,
+    /// Share one volumetric strain rate and one pressure among the particles of each grid cell
+    /// (as in a Q1–P0 element), against volumetric locking of the incompressible plastic flow.
+    pub volumetric_averaging: bool,
+    /// 3D, or a reduced model for a scene with a symmetry (see [`Model`]).
+    pub model: Model,
+}
+
+impl Default for Discretization {
+    fn default() -> Self {
+        Discretization {
+            particles_through_thickness: 4,
+            cell_to_particle_ratio: 2.0,
+            cfl: 0.5,
+            shape: None,
+            volumetric_averaging: true,
+            model: Model::ThreeD,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Trigger {
+    /// Fraction of tube particles made weak (0.003 in the source); 0 disables the trigger.
+    pub weak_fraction: f64,
+    /// Yield stress of a weak particle divided by σy.
+    pub strength_ratio: f64,
+    /// Seed of the random choice of weak particles.
+    #[serde(deserialize_with = "whole::<_, u64>")]
+    pub seed: u64,
+}
+
+impl Default for Trigger {
+    fn default() -> Self {
+        Trigger {
+            weak_fraction: 0.0,
+            strength_ratio: 0.01,
+            seed: 1,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Output {
+    /// Number of history rows, at equal plate-displacement intervals.
+    #[serde(deserialize_with = "whole::<_, u32>")]
+    pub history_points: u32,
+    /// Keep the final particle state (positions and plastic strain, 16 bytes a particle) for
+    /// the deformed-tube picture and the VTU download. A sweep that needs only the numbers can
+    /// leave it out.
+    pub final_state: bool,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output {
+            history_points: 500,
+            final_state: true,
+        }
+    }
+}
+
+/// An integer field read from any JSON number with no fractional part: JSON (and the contract's
+/// JSON Schema `integer`) counts `500.0` as the integer 500, so the parser does too.
+fn whole<'de, D, T>(de: D) -> Result<T, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: TryFrom<u64>,
+{
+    use serde::de::Error;
+    let n = serde_json::Number::deserialize(de)?;
+    let whole = match (n.as_u64(), n.as_f64()) {
+        (Some(u), _) => Some(u),
+        // Below 2⁶⁴ and whole: the conversion is exact.
+        (None, Some(f)) if (0.0..18_446_744_073_709_551_616.0).contains(&f) && f.fract() == 0.0 => {
+            Some(f as u64)
+        }
+        _ => None,
+    };
+    whole
+        .and_then(|u| T::try_from(u).ok())
+        .ok_or_else(|| D::Error::custom(format!("expected a whole number in range, not {n}")))
+}
+
+/// Every field a case can set, as dotted paths (`tube.thickness_mm`, `label`).
+pub fn field_paths() -> Vec<String> {
+    // Every optional field filled in, so that the serialized case names it.
+    let mut full = CaseSpec {
+        label: Some(String::new()),
+        ..CaseSpec::default()
+    };
+    full.loading.crush_distance_mm = Some(0.0);
+    full.loading.ramp_mm = Some(0.0);
+    full.discretization.shape = Some(ShapeKind::Gimp);
+    let Ok(Value::Object(sections)) = serde_json::to_value(&full) else {
+        unreachable!("a case serializes to an object")
+    };
+    let mut paths = Vec::new();
+    for (name, value) in sections {
+        match value {
+            Value::Object(fields) => paths.extend(fields.keys().map(|f| format!("{name}.{f}"))),
+            _ => paths.push(name),
+        }
+    }
+    paths
+}
+
+/// JSON text → spec, naming the field of a type error, an unknown field or a key given twice.
+/// The text must be one JSON object and nothing after it: serde would read a struct from an
+/// array (`[]` is then the default case) and stop before trailing text.
+pub fn spec_from_json(text: &str) -> Result<CaseSpec, CaseError> {
+    spec_from_value(&Value::Object(object_from_json(text)?))
+}
+
+/// JSON text → the one object it holds, every key once ([`object_from_str`]), as a case error.
+pub fn object_from_json(text: &str) -> Result<serde_json::Map<String, Value>, CaseError> {
+    object_from_str(text).map_err(|e| CaseError::Malformed {
+        field: e.field,
+        message: e.message,
+    })
+}
+
+/// A JSON value (read strictly, see [`object_from_json`]) → spec, naming the field of a type
+/// error or an unknown field; what the message quotes of the client's text is clipped.
+pub fn spec_from_value(value: &Value) -> Result<CaseSpec, CaseError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        CaseError::Malformed {
+            field: (path != "." && !path.is_empty()).then(|| clip(&path).into_owned()),
+            message: clip_quoted(&e.inner().to_string()),
+        }
+    })
+}
+
+/// c = √(E(1−ν) / ((1+ν)(1−2ν)ρ)) in m/s, from E in MPa and ρ in kg/m³.
+pub(crate) fn wave_speed_m_s(m: &Material) -> f64 {
+    let nu = m.poisson_ratio;
+    let modulus_pa = m.youngs_modulus_mpa * 1e6 * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    (modulus_pa / m.density_kg_m3).sqrt()
+}
