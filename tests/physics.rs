@@ -5,13 +5,13 @@ use crush::solver::engine::particles::Particles;
 use crush::solver::engine::scene::{Plate, Ramp, Scene};
 use crush::solver::engine::shape::{Gimp, Linear, Stencil};
 use crush::solver::engine::solid::Simulation;
-use crush::solver::model::material::{von_mises, Elastoplastic};
+use crush::solver::model::material::{von_mises, Elastic, MaterialLaw, J2};
 use nalgebra::Vector3;
 
 const RHO: f64 = 1.38e-3; // g/mm³ (PVC)
 
 /// A box of nx × ny × nz particles at spacing h (mm), cell 2h, no plates.
-fn block(n: [usize; 3], h: f64, material: Elastoplastic) -> Scene {
+fn block(n: [usize; 3], h: f64, material: MaterialLaw) -> Scene {
     let mut p = Particles::default();
     for i in 0..n[0] {
         for j in 0..n[1] {
@@ -40,8 +40,8 @@ fn block(n: [usize; 3], h: f64, material: Elastoplastic) -> Scene {
     }
 }
 
-fn pvc() -> Elastoplastic {
-    Elastoplastic::new(3378.4, 0.42, 65.5)
+fn pvc() -> MaterialLaw {
+    MaterialLaw::J2(J2::new(3378.4, 0.42, 65.5))
 }
 
 fn max_stress<S: Stencil>(sim: &Simulation<S>) -> f64 {
@@ -146,7 +146,7 @@ fn elastic_wave_speed_in_a_bar() {
     each_shape!(|S, shape| {
         let (h, n) = (0.5, 80);
         let e = 3378.4;
-        let mut scene = block([n, 2, 2], h, Elastoplastic::new(e, 0.0, 1e30));
+        let mut scene = block([n, 2, 2], h, MaterialLaw::Elastic(Elastic::new(e, 0.0)));
         let len = n as f64 * h;
         let (x0, k) = (0.13, std::f64::consts::PI / len);
         for (v, x) in scene.particles.v.iter_mut().zip(&scene.particles.x) {
@@ -361,7 +361,11 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
 #[test]
 fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
     let (h, mu, u, w) = (0.5, 0.2, 5.0, 0.5);
-    let mut scene = block([6, 6, 4], h, Elastoplastic::new(3378.4, 0.42, 1e30));
+    let mut scene = block(
+        [6, 6, 4],
+        h,
+        MaterialLaw::Elastic(Elastic::new(3378.4, 0.42)),
+    );
     scene
         .particles
         .v

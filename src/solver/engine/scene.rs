@@ -11,16 +11,16 @@
 //! (volume area·l). Loads and energies are then those of the whole tube.
 
 use crate::solver::engine::particles::Particles;
-use crate::solver::model::case::{Case, MaterialModel};
+use crate::solver::model::case::Case;
 pub use crate::solver::model::contact::{Plate, Ramp, BOTTOM, TOP};
-use crate::solver::model::material::Elastoplastic;
+use crate::solver::model::material::MaterialLaw;
 use crate::solver::Real;
 
 /// Everything the engine needs; tests build their own.
 #[derive(Debug, Clone)]
 pub struct Scene {
     pub particles: Particles,
-    pub material: Elastoplastic,
+    pub material: MaterialLaw,
     /// Density of the undeformed material, g/mm³ (for the wave speed).
     pub density: Real,
     pub plates: Vec<Plate>,
@@ -48,17 +48,12 @@ impl Scene {
         let mut particles = Particles::default();
         particles.x.reserve_exact(case.particle_count() as usize);
         geometry.each_point(|x, vol| particles.push(x, rho * vol, vol));
-        let m = &spec.material;
-        let yield_stress = match m.model {
-            MaterialModel::J2 => m.yield_stress_mpa,
-            MaterialModel::Elastic => Real::INFINITY,
-        };
         let speed = spec.loading.plate_speed_m_s;
         let (top, bottom) = geometry.plates_z();
         let cell = case.cell_mm();
         let mut scene = Scene {
             particles,
-            material: Elastoplastic::new(m.youngs_modulus_mpa, m.poisson_ratio, yield_stress),
+            material: MaterialLaw::of(&spec.material),
             density: rho,
             plates: vec![
                 Plate {

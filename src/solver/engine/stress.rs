@@ -6,7 +6,7 @@
 use super::particles::Particles;
 use super::scene::Scene;
 use super::Energies;
-use crate::solver::model::material::{Elastoplastic, Increment, Sym};
+use crate::solver::model::material::{Increment, Law, MaterialLaw, Point, Sym};
 use crate::solver::{Real, SolveError};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -29,8 +29,6 @@ pub struct ChunkSums {
 pub(crate) struct Books {
     /// The step, ms.
     pub dt: Real,
-    /// The yield stress the plastic work is booked at (0 for a material that never yields), MPa.
-    pub yield_stress: Real,
     /// P-wave modulus, MPa (for the signal speed).
     pub modulus: Real,
     /// Particles must stay inside this box, mm.
@@ -41,7 +39,6 @@ impl Books {
     pub(crate) fn of(scene: &Scene, dt: Real) -> Books {
         Books {
             dt,
-            yield_stress: scene.material.finite_yield_stress(),
             modulus: scene.material.p_wave_modulus(),
             domain: scene.domain,
         }
@@ -53,7 +50,6 @@ pub(crate) struct Updated<'a> {
     /// Its index in the particle arrays.
     pub q: usize,
     pub increment: Increment,
-    pub yield_scale: Real,
     /// Volume before and after the step, mm³.
     pub volume: (Real, Real),
     pub mass: Real,
@@ -70,9 +66,9 @@ impl ChunkSums {
         let (before, vol) = u.volume;
         let inc = &u.increment;
         self.work += inc.stress_power * 0.5 * (before + vol) * b.dt;
-        // Adding the zero increment of an elastic particle leaves the sum's bits as they are;
-        // no branch.
-        self.plastic += b.yield_stress * u.yield_scale * inc.plastic_strain * vol;
+        // The law's own plastic work; adding the zero of an elastic particle leaves the sum's
+        // bits as they are, so there is no branch.
+        self.plastic += inc.plastic_work * vol;
         self.kinetic += 0.5 * u.mass * u.v.norm_squared();
         self.signal = self
             .signal
@@ -130,12 +126,26 @@ pub(crate) trait Deformation: Sync {
     fn volume_factor(&self, l: &Matrix3<Real>, dt: Real) -> Real;
 }
 
-/// The stress update of every particle `p`, four at a time, in parallel chunks of `chunk`
-/// particles whose sums go to `sums`, for the 3D simulation and the sections alike, with the
-/// gradients and volume changes of `model`.
+/// The stress update of every particle `p` under the scene's law, for the 3D simulation and
+/// the sections alike ([`update_particles_as`] with the law as a type: one match a step, and
+/// the loop over the particles is monomorphic).
 pub(crate) fn update_particles(
     p: &mut Particles,
-    (material, books): (&Elastoplastic, &Books),
+    (law, books): (&MaterialLaw, &Books),
+    chunks: (usize, &mut Vec<ChunkSums>),
+    model: &impl Deformation,
+) {
+    match law {
+        MaterialLaw::Elastic(law) => update_particles_as(p, (law, books), chunks, model),
+        MaterialLaw::J2(law) => update_particles_as(p, (law, books), chunks, model),
+    }
+}
+
+/// The stress update of every particle `p` under `law`, four at a time, in parallel chunks of
+/// `chunk` particles whose sums go to `sums`, with the gradients and volume changes of `model`.
+fn update_particles_as<L: Law>(
+    p: &mut Particles,
+    (law, books): (&L, &Books),
     (chunk, sums): (usize, &mut Vec<ChunkSums>),
     model: &impl Deformation,
 ) {
@@ -156,7 +166,7 @@ pub(crate) fn update_particles(
                 // groups are padded with zero lanes (zero stress and gradient, which the update
                 // leaves at zero).
                 let mut ls = [Matrix3::zeros(); LANES];
-                let mut scales = [1.0; LANES];
+                let mut points = [Point::FRESH; LANES];
                 for (j, l) in ls.iter_mut().enumerate().take(lanes) {
                     let (i, q) = (first + j, c * chunk + first + j);
                     let averages;
@@ -173,8 +183,9 @@ pub(crate) fn update_particles(
                         s[2] += dp;
                     }
                     if scaled {
-                        scales[j] = yield_scale[q];
+                        points[j].strength_scale = yield_scale[q];
                     }
+                    points[j].plastic_strain = eps[i];
                 }
                 // The lanes' stresses copied in one go after the averaging, not one by one
                 // inside the loop above: filling them particle by particle measured the stress
@@ -182,7 +193,7 @@ pub(crate) fn update_particles(
                 let mut sa = [[0.0; 6]; LANES];
                 sa[..lanes].copy_from_slice(&ss[first..first + lanes]);
                 // Four stress updates at once, one per lane.
-                let inc = material.update_four(&mut sa, &ls, books.dt, scales);
+                let inc = law.update_four(&mut sa, &ls, books.dt, points);
                 // Per particle again, in order: volume, books, checks. (These four at once too
                 // measured slower: the gathers cost more than the lanes saved.)
                 for j in 0..lanes {
@@ -194,7 +205,6 @@ pub(crate) fn update_particles(
                     let updated = Updated {
                         q,
                         increment: inc[j],
-                        yield_scale: scales[j],
                         volume: (before, vols[i]),
                         mass: mass[q],
                         x: &xs[q],
