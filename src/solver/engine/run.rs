@@ -5,10 +5,14 @@
 
 use super::checkpoint::{Checkpoint, Resume, Tally};
 use super::history::HistoryRow;
+use super::kernel::{Engine, SolveError};
 use super::observer::{Observer, Progress};
 use super::scene::{Scene, BOTTOM, TOP};
-use super::{simulate, Driver, Engine, SolveError};
+use super::section::{Section, Symmetry};
+use super::shape::{Gimp, Linear};
+use super::solid::Simulation;
 use crate::solver::model::case::Case;
+use crate::solver::model::case::{Model, ShapeKind};
 use crate::solver::Real;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -256,4 +260,21 @@ fn contact_gap<E: Engine>(sim: &E) -> Real {
     let bottom = p.x.iter().map(|x| x.z).fold(Real::MAX, Real::min) - h;
     let plates = &scene.plates;
     0.5 * ((plates[TOP].z - top) + (bottom - plates[BOTTOM].z))
+}
+
+/// What to do with a simulation once its model and shape function are types: [`simulate`]
+/// calls [`Driver::drive`] with the one the case chose.
+pub trait Driver {
+    type Output;
+    fn drive<E: Engine>(self, sim: E) -> Self::Output;
+}
+
+/// The one place where the case's [`Model`] and [`ShapeKind`] become a type.
+pub fn simulate<D: Driver>(model: Model, shape: ShapeKind, scene: Scene, driver: D) -> D::Output {
+    match (Symmetry::of(model), shape) {
+        (None, ShapeKind::Linear) => driver.drive(Simulation::<Linear>::new(scene)),
+        (None, ShapeKind::Gimp) => driver.drive(Simulation::<Gimp>::new(scene)),
+        (Some(sym), ShapeKind::Linear) => driver.drive(Section::<Linear>::new(scene, sym)),
+        (Some(sym), ShapeKind::Gimp) => driver.drive(Section::<Gimp>::new(scene, sym)),
+    }
 }

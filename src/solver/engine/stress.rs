@@ -3,11 +3,12 @@
 //! step's signal speed, and the check that stops a run whose numbers went bad. A model gives
 //! the gradients and volume changes of its geometry through [`Deformation`].
 
+use super::kernel::Energies;
+use super::kernel::SolveError;
 use super::particles::Particles;
 use super::scene::Scene;
-use super::Energies;
 use crate::solver::model::material::{Increment, Law, MaterialLaw, Point, Sym};
-use crate::solver::{Real, SolveError};
+use crate::solver::Real;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 

@@ -15,7 +15,7 @@
 //! 112 bytes a history row, plus about a kilobyte ([`Checkpoint::size_for`]).
 
 use crate::solver::engine::history::HistoryRow;
-use crate::solver::engine::{Energies, Engine};
+use crate::solver::engine::kernel::{Energies, Engine};
 use crate::solver::model::case::Case;
 use crate::solver::Real;
 use nalgebra::Vector3;

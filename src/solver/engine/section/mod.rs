@@ -18,11 +18,11 @@
 mod grid;
 mod passes;
 
-use super::grid::{Full, Remap};
+use super::grid::Transfer;
+use super::kernel::{Clock, Engine, Phases, SolveError, State};
 use super::scene::Scene;
 use super::shape::Stencil;
 use super::stress::ChunkSums;
-use super::{Clock, Engine, SolveError, State};
 use crate::solver::model::case::Model;
 use crate::solver::model::contact::ContactSums;
 use crate::solver::Real;
@@ -101,34 +101,36 @@ impl<S: Stencil> Section<S> {
     }
 }
 
+impl<S: Stencil> Phases for Section<S> {
+    fn bin(&mut self, lp: Real) {
+        self.grid.fit(&self.state.scene.particles.x, lp);
+    }
+    fn scatter<T: Transfer>(&mut self, lp: Real, _clock: &mut Clock) {
+        self.scatter_particles::<T>(lp);
+    }
+    fn grid_update(&mut self, dt: Real) -> ContactSums {
+        self.update_nodes(dt)
+    }
+    fn g2p_velocity(&mut self, lp: Real) {
+        self.gather_velocity(lp);
+    }
+    fn remap(&mut self) {
+        self.remap_nodes();
+    }
+    fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
+        self.gather_kinematics(lp, dt);
+    }
+    fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+        self.stress_update(dt)
+    }
+}
+
 impl<S: Stencil> Engine for Section<S> {
     fn state(&self) -> &State {
         &self.state
     }
     fn state_mut(&mut self) -> &mut State {
         &mut self.state
-    }
-    /// The phases in the order of the module doc.
-    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        let lp = self.state.scene.half_size / self.state.scene.cell;
-        let mut clock = Clock::start();
-        self.grid.fit(&self.state.scene.particles.x, lp);
-        clock.lap(&mut self.state.phases.bin);
-        self.scatter::<Full>(lp);
-        clock.lap(&mut self.state.phases.p2g);
-        let contact = self.grid_update(dt);
-        clock.lap(&mut self.state.phases.grid);
-        self.g2p_velocity(lp);
-        clock.lap(&mut self.state.phases.g2p);
-        self.scatter::<Remap>(lp);
-        clock.lap(&mut self.state.phases.p2g);
-        self.remap();
-        clock.lap(&mut self.state.phases.grid);
-        self.g2p_kinematics(lp, dt);
-        clock.lap(&mut self.state.phases.g2p);
-        let kinetic = self.update_stress(dt)?;
-        clock.lap(&mut self.state.phases.stress);
-        Ok((contact, kinetic))
     }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64

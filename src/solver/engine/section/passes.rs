@@ -7,9 +7,9 @@
 use super::grid::{PlaneGrid, PlaneStencil};
 use super::Section;
 use crate::solver::engine::grid::Transfer;
+use crate::solver::engine::kernel::SolveError;
 use crate::solver::engine::shape::Stencil;
 use crate::solver::engine::stress::{close_books, update_particles, Books, Deformation};
-use crate::solver::engine::SolveError;
 use crate::solver::model::contact::{self, ContactSums, CONTACT_TOLERANCE};
 use crate::solver::Real;
 use nalgebra::{Matrix3, Vector3};
@@ -66,7 +66,7 @@ impl<S: Stencil> Section<S> {
     /// band of the wall); the patches are then added onto the grid in run order. The number of
     /// runs depends on the particle count alone, so the sums, and their bits, do not depend on
     /// the thread count.
-    pub(super) fn scatter<T: Transfer>(&mut self, lp: Real) {
+    pub(super) fn scatter_particles<T: Transfer>(&mut self, lp: Real) {
         let g = &self.grid;
         let p = &self.state.scene.particles;
         let (plates, half) = (&self.state.scene.plates, self.state.scene.half_size);
@@ -153,7 +153,7 @@ impl<S: Stencil> Section<S> {
 
     /// Nodes after the full scatter: momentum → velocity, add force·dt, apply the plates
     /// (booked). Returns the contact sums.
-    pub(super) fn grid_update(&mut self, dt: Real) -> ContactSums {
+    pub(super) fn update_nodes(&mut self, dt: Real) -> ContactSums {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let g = &mut self.grid;
         let mut sums = ContactSums::default();
@@ -178,7 +178,7 @@ impl<S: Stencil> Section<S> {
 
     /// Nodes after the remap scatter: velocity with the plates applied again (not booked: see
     /// the 3D `Simulation::remap`).
-    pub(super) fn remap(&mut self) {
+    pub(super) fn remap_nodes(&mut self) {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let g = &mut self.grid;
         for n in 0..g.len() {
@@ -197,7 +197,7 @@ impl<S: Stencil> Section<S> {
     }
 
     /// Grid → particle velocity, FLIP: add the interpolated velocity change.
-    pub(super) fn g2p_velocity(&mut self, lp: Real) {
+    pub(super) fn gather_velocity(&mut self, lp: Real) {
         let g = &self.grid;
         let p = &mut self.state.scene.particles;
         let x = &p.x;
@@ -218,7 +218,7 @@ impl<S: Stencil> Section<S> {
 
     /// Grid → particle kinematics from the remapped velocities: the velocity gradient in the
     /// 3D layout (with the hoop rate v_r / r), and the position.
-    pub(super) fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
+    pub(super) fn gather_kinematics(&mut self, lp: Real, dt: Real) {
         let g = &self.grid;
         let hoop = self.symmetry.hoop();
         let inv = g.inv_cell;
@@ -262,7 +262,7 @@ impl<S: Stencil> Section<S> {
     /// Stress, volume and energy update, with the cell-averaged dilation rate and pressure when
     /// the scene asks for them; the next step's signal speed; the check for a particle gone
     /// bad. Returns the kinetic energy, mJ.
-    pub(super) fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+    pub(super) fn stress_update(&mut self, dt: Real) -> Result<Real, SolveError> {
         let cells = self.grid.len();
         let books = Books::of(&self.state.scene, dt);
         let material = self.state.scene.material;

@@ -1,6 +1,7 @@
 //! The hoop and plane-strain terms one at a time, on the paper's tube section.
 
 use super::*;
+use crate::solver::engine::grid::{Full, Remap};
 use crate::solver::engine::shape::{Gimp, Linear};
 use crate::solver::model::case::{Case, Limits};
 use crate::solver::model::material::{Law, MaterialLaw, Point};
@@ -31,11 +32,11 @@ fn section<S: Stencil>(model: &str) -> Section<S> {
 fn kinematics_at_rest<S: Stencil>(sim: &mut Section<S>) {
     let lp = sim.state.scene.half_size / sim.state.scene.cell;
     sim.grid.fit(&sim.state.scene.particles.x, lp);
-    sim.scatter::<Full>(lp);
-    sim.grid_update(0.0);
-    sim.scatter::<Remap>(lp);
-    sim.remap();
-    sim.g2p_kinematics(lp, 0.0);
+    sim.scatter_particles::<Full>(lp);
+    sim.update_nodes(0.0);
+    sim.scatter_particles::<Remap>(lp);
+    sim.remap_nodes();
+    sim.gather_kinematics(lp, 0.0);
 }
 
 /// The velocity field v = (v_r, 0, 0) everywhere: the nodes carry it exactly (a partition of
@@ -79,7 +80,7 @@ fn check_hoop_force<S: Stencil>(model: &str, hoop: Real) {
     }
     let lp = sim.state.scene.half_size / sim.state.scene.cell;
     sim.grid.fit(&sim.state.scene.particles.x, lp);
-    sim.scatter::<Full>(lp);
+    sim.scatter_particles::<Full>(lp);
     let p = &sim.state.scene.particles;
     let want: Real = (0..p.len())
         .map(|q| -hoop * p.vol[q] * sigma / p.x[q].x)

@@ -30,11 +30,11 @@ mod workspace;
 
 #[cfg(doc)]
 use super::grid::Node;
-use super::grid::{Full, Grid, Remap};
+use super::grid::{Grid, Transfer};
+use super::kernel::{Clock, Engine, Phases, State, StepInfo};
 use super::scene::Scene;
 use super::shape::Stencil;
-use super::{Clock, Engine, State, StepInfo};
-use crate::solver::engine::SolveError;
+use crate::solver::engine::kernel::SolveError;
 use crate::solver::model::contact::ContactSums;
 use crate::solver::Real;
 pub use workspace::Workspace;
@@ -72,17 +72,10 @@ impl<S: Stencil> Simulation<S> {
     }
 }
 
-impl<S: Stencil> Engine for Simulation<S> {
-    fn state(&self) -> &State {
-        &self.state
-    }
-    fn state_mut(&mut self) -> &mut State {
-        &mut self.state
-    }
-    /// The phases in the order of the module doc.
-    fn advance(&mut self, dt: Real) -> Result<(ContactSums, Real), SolveError> {
-        let lp = self.state.scene.half_size / self.state.scene.cell;
-        let mut clock = Clock::start();
+impl<S: Stencil> Phases for Simulation<S> {
+    /// The particles into blocks; every [`RESORT_EVERY`] steps reordered by block, and within a
+    /// block by their stencils' reach, first.
+    fn bin(&mut self, lp: Real) {
         self.grid.bin(&self.state.scene.particles.x, lp);
         if self.state.steps.is_multiple_of(RESORT_EVERY) {
             let (x, inv) = (&self.state.scene.particles.x, self.grid.inv_cell);
@@ -94,20 +87,33 @@ impl<S: Stencil> Engine for Simulation<S> {
                 .permute(&self.grid.bins.order, seen);
             self.grid.bins.adopt_order(seen);
         }
-        clock.lap(&mut self.state.phases.bin);
-        self.scatter::<Full>(lp, &mut clock);
-        let contact = self.grid_update(dt);
-        clock.lap(&mut self.state.phases.grid);
-        self.g2p_velocity(lp);
-        clock.lap(&mut self.state.phases.g2p);
-        self.scatter::<Remap>(lp, &mut clock);
-        self.remap();
-        clock.lap(&mut self.state.phases.grid);
-        self.g2p_kinematics(lp, dt);
-        clock.lap(&mut self.state.phases.g2p);
-        let kinetic = self.update_stress(dt)?;
-        clock.lap(&mut self.state.phases.stress);
-        Ok((contact, kinetic))
+    }
+    fn scatter<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
+        self.scatter_passes::<T>(lp, clock);
+    }
+    fn grid_update(&mut self, dt: Real) -> ContactSums {
+        self.update_nodes(dt)
+    }
+    fn g2p_velocity(&mut self, lp: Real) {
+        self.gather_velocity(lp);
+    }
+    fn remap(&mut self) {
+        self.remap_nodes();
+    }
+    fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
+        self.gather_kinematics(lp, dt);
+    }
+    fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+        self.stress_update(dt)
+    }
+}
+
+impl<S: Stencil> Engine for Simulation<S> {
+    fn state(&self) -> &State {
+        &self.state
+    }
+    fn state_mut(&mut self) -> &mut State {
+        &mut self.state
     }
     fn active_cells(&self) -> u64 {
         self.grid.len() as u64 * 64

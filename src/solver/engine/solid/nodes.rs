@@ -14,7 +14,7 @@ use rayon::prelude::*;
 impl<S: Stencil> Simulation<S> {
     /// Owned nodes, after the `Full` scatter: momentum → velocity, add force·dt, apply the
     /// plates. Returns the contact sums.
-    pub(super) fn grid_update(&mut self, dt: Real) -> ContactSums {
+    pub(super) fn update_nodes(&mut self, dt: Real) -> ContactSums {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let floor = self.state.mass_floor;
         let block_sums = &mut self.workspace.block_sums;
@@ -51,7 +51,7 @@ impl<S: Stencil> Simulation<S> {
     /// into a plate. Nothing is booked: this pass changes neither the particles' velocities nor
     /// their momentum (so neither the kinetic energy nor the load); what approaches a plate in
     /// them is caught, and booked, in the next step's grid update.
-    pub(super) fn remap(&mut self) {
+    pub(super) fn remap_nodes(&mut self) {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let floor = self.state.mass_floor;
         self.grid.owned.par_chunks_mut(OWNED).for_each(|own| {

@@ -7,9 +7,9 @@ use super::transfer::CHUNK;
 use super::workspace::Gradient;
 use super::Simulation;
 use crate::solver::engine::grid::bin::Bins;
+use crate::solver::engine::kernel::SolveError;
 use crate::solver::engine::shape::Stencil;
 use crate::solver::engine::stress::{close_books, update_particles, Books, Deformation};
-use crate::solver::engine::SolveError;
 use crate::solver::Real;
 use nalgebra::Matrix3;
 
@@ -36,7 +36,7 @@ impl<S: Stencil> Simulation<S> {
     /// Stress, volume and energy update from the velocity gradients of `g2p_kinematics`, with
     /// the cell-averaged dilation and pressure when the scene asks for them. Finds the next
     /// step's signal speed and any particle that went bad. Returns the kinetic energy, mJ.
-    pub(super) fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError> {
+    pub(super) fn stress_update(&mut self, dt: Real) -> Result<Real, SolveError> {
         let work = &mut self.workspace;
         let bins = &self.grid.bins;
         let averages = work.averages.as_mut().map(|a| {

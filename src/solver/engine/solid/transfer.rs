@@ -4,8 +4,8 @@
 use super::Simulation;
 use crate::solver::engine::grid::sweep::{self, Pass};
 use crate::solver::engine::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
+use crate::solver::engine::kernel::Clock;
 use crate::solver::engine::shape::{Axis, Gimp, Linear, Stencil};
-use crate::solver::engine::Clock;
 use crate::solver::model::contact::{self, CONTACT_TOLERANCE};
 use crate::solver::model::material::to_matrix;
 use crate::solver::Real;
@@ -21,7 +21,7 @@ impl<S: Stencil> Simulation<S> {
     /// Particle → grid for transfer `T`, slab by slab of the grid's sweep: each slab's blocks
     /// onto their padded buffers (timed as p2g), then the owned nodes of the slab before it
     /// reduced (timed with the grid phase).
-    pub(super) fn scatter<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
+    pub(super) fn scatter_passes<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
         for pass in sweep::passes(self.grid.sweep.slabs()) {
             match pass {
                 Pass::Scatter(i) => {
@@ -123,7 +123,7 @@ impl<S: Stencil> Simulation<S> {
     }
 
     /// Grid → particle velocity, FLIP: add the interpolated velocity change.
-    pub(super) fn g2p_velocity(&mut self, lp: Real) {
+    pub(super) fn gather_velocity(&mut self, lp: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
         let p = &mut self.state.scene.particles;
@@ -160,7 +160,7 @@ impl<S: Stencil> Simulation<S> {
 
     /// Grid → particle kinematics: velocity gradient (into the workspace) and position from
     /// the remapped nodal velocities.
-    pub(super) fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
+    pub(super) fn gather_kinematics(&mut self, lp: Real, dt: Real) {
         let g = &self.grid;
         let inv = g.inv_cell;
         let xs = &mut self.state.scene.particles.x;
