@@ -1,8 +1,9 @@
 //! crush: explicit 3D material point method simulations of thin-walled tubes crushed between
 //! rigid plates, as a library ([`solver`]), a command-line runner ([`cli`]) and an HTTP job
-//! server ([`service`]).
+//! server ([`service`]), which export runs alike ([`export`], [`plot`]).
 
 pub mod cli;
+pub mod export;
 pub mod plot;
 pub mod service;
 pub mod solver;

@@ -13,7 +13,7 @@
 use crate::plot::{self, Series};
 use crate::solver::engine::scene::Scene;
 use crate::solver::engine::{simulate, Driver, Engine, PhaseTimes};
-use crate::solver::{Case, Limits, Real};
+use crate::solver::{Case, Limits, Real, Runner};
 use anyhow::{bail, Context};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -95,9 +95,7 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
     std::io::stdin().read_to_string(&mut text)?;
     let limits = Limits::unbounded();
     let case = Case::from_json(&text, &limits).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads)
-        .build()?;
+    let runner = Runner::new(args.threads, |i| format!("crush-bench-{i}"))?;
     let base_rss = rss_kib("VmRSS:").map(|k| k * 1024);
     let timing = Timing {
         steps: args.steps,
@@ -106,7 +104,8 @@ pub fn bench_one(args: BenchOneArgs) -> anyhow::Result<()> {
         speed: case.spec().loading.plate_speed_m_s,
     };
     let model = case.spec().discretization.model;
-    let sample = pool.install(|| simulate(model, case.shape(), Scene::from_case(&case), timing))?;
+    let sample =
+        runner.install(|| simulate(model, case.shape(), Scene::from_case(&case), timing))?;
     println!("{}", serde_json::to_string(&sample)?);
     Ok(())
 }

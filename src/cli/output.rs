@@ -1,13 +1,15 @@
-//! The files a run leaves behind: `history.csv` (one row per history point, columns
-//! [`HistoryRow::COLUMNS`]), `summary.json` (the summary plus the mode's diagnostics) and
-//! `particles.csv` and `shape.png` (the final particle state, as numbers and as a picture; only
-//! when the case keeps it, `output.final_state`).
+//! The files `crush run` leaves behind, the same the server gives for a job: `history.csv`
+//! (one row per history point, columns [`HistoryRow::COLUMNS`]), `load.svg` (the load curve),
+//! `summary.json` (the summary plus the mode's diagnostics), and, when the case keeps the final
+//! state (`output.final_state`), `particles.csv`, `state.vtu` (for ParaView) and `shape.png`.
 
+use crate::export::{self, FinalState};
 use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::Snapshot;
 use crate::solver::{Case, HistoryRow, Summary};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
+use std::io::Write;
 use std::path::Path;
 
 /// What `summary.json` holds: every [`Summary`] field at the top level, the case's label and
@@ -21,49 +23,67 @@ pub struct SummaryFile {
     pub mode_detail: ModeDetail,
 }
 
-/// Writes the history as CSV with a header row.
+/// Writes the history as CSV with a header row ([`export::csv::history`]).
 pub fn write_history_csv(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
-    w.write_record(HistoryRow::COLUMNS)?;
-    for row in rows {
-        // `{}` prints the shortest text that reads back as the same f64.
-        w.write_record(row.values().iter().map(|v| v.to_string()))?;
-    }
-    w.flush()
-        .with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+    let file = create(path)?;
+    export::csv::history(file, rows.iter().map(HistoryRow::values))
+        .and_then(|mut w| Ok(w.flush()?))
+        .with_context(|| format!("writing {}", path.display()))
 }
 
-/// Writes the final particle state as CSV: initial and final position (mm) and equivalent
-/// plastic strain, one particle per row.
+/// Writes the final particle state as CSV ([`export::csv::particles`]).
 pub fn write_particles_csv(path: &Path, snapshot: &Snapshot) -> anyhow::Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
-    w.write_record([
-        "x0_mm",
-        "y0_mm",
-        "z0_mm",
-        "x_mm",
-        "y_mm",
-        "z_mm",
-        "plastic_strain",
-    ])?;
-    for ((a, b), e) in snapshot
+    let rows = snapshot
         .initial_mm
         .iter()
         .zip(&snapshot.position_mm)
         .zip(&snapshot.plastic_strain)
-    {
-        w.write_record(
-            [a[0], a[1], a[2], b[0], b[1], b[2], *e]
-                .iter()
-                .map(|v| v.to_string()),
-        )?;
-    }
-    w.flush()
-        .with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+        .map(|((a, b), e)| (*a, *b, *e));
+    export::csv::particles(create(path)?, rows)
+        .and_then(|mut w| Ok(w.flush()?))
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes the final particle state as a VTK file for ParaView ([`export::vtu::write_vtu`]), the
+/// file the server's `state.vtu` gives.
+pub fn write_state_vtu(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow::Result<()> {
+    let geometry = case.geometry();
+    let mut out = create(path)?;
+    let state = FinalState::of(snapshot);
+    export::vtu::write_vtu(
+        &mut out,
+        &snapshot.initial_mm,
+        &state,
+        geometry.symmetry_note(),
+    )
+    .and_then(|()| out.flush())
+    .with_context(|| format!("writing {}", path.display()))
+}
+
+/// The load on the moving plate against its travel, as SVG: the picture the server's
+/// `plot.svg` gives.
+pub fn write_load_svg(path: &Path, case: &Case, rows: &[HistoryRow]) -> anyhow::Result<()> {
+    let series = [crate::plot::Series {
+        name: "load on the moving plate".into(),
+        points: rows
+            .iter()
+            .map(|r| (r.displacement_mm, r.load_top_n / 1000.0))
+            .collect(),
+    }];
+    let title = case
+        .spec()
+        .label
+        .as_deref()
+        .unwrap_or("load against plate travel");
+    let svg = crate::plot::lines_svg((title, "plate travel, mm", "load, kN"), &series, false)?;
+    std::fs::write(path, svg).with_context(|| format!("writing {}", path.display()))
+}
+
+/// A file for writing, buffered.
+fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    let file =
+        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    Ok(std::io::BufWriter::new(file))
 }
 
 /// Writes the summary as pretty JSON.
@@ -74,14 +94,14 @@ pub fn write_summary_json(path: &Path, file: &SummaryFile) -> anyhow::Result<()>
 
 /// The deformed tube, coloured by plastic strain (see [`crate::plot::tube_png`]).
 pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow::Result<()> {
-    let position: Vec<[f32; 3]> = snapshot
-        .position_mm
-        .iter()
-        .map(|x| x.map(|v| v as f32))
-        .collect();
-    let strain: Vec<f32> = snapshot.plastic_strain.iter().map(|&e| e as f32).collect();
+    let state = FinalState::of(snapshot);
     let title = case.spec().label.as_deref().unwrap_or("final shape");
-    let png = crate::plot::tube_png(case.geometry(), title, &position, &strain)?;
+    let png = crate::plot::tube_png(
+        case.geometry(),
+        title,
+        &state.position_mm,
+        &state.plastic_strain,
+    )?;
     std::fs::write(path, png).with_context(|| format!("writing {}", path.display()))
 }
 

@@ -1,15 +1,17 @@
 //! `crush run CASE.json`: parse the case, run it on its own rayon pool with a progress bar,
-//! stop cleanly on Ctrl-C, print the summary and write `history.csv` and `summary.json`.
+//! stop cleanly on Ctrl-C, print the summary and write the files the server gives for a job
+//! (`cli/output.rs`).
 //!
 //! What it prints and writes is the solver's own summary and mode detail: one source.
 
 use super::output::{
-    write_history_csv, write_particles_csv, write_shape_png, write_summary_json, SummaryFile,
+    write_history_csv, write_load_svg, write_particles_csv, write_shape_png, write_state_vtu,
+    write_summary_json, SummaryFile,
 };
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::RunArgs;
-use crate::solver::{self, estimate, Case, Limits, SolveError};
+use crate::solver::{cores, estimate, Case, Limits, Runner, SolveError};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -34,7 +36,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let threads = match args.threads {
         Some(0) => bail!("--threads must be at least 1"),
         Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        None => cores(),
     };
     let out_dir = args
         .out
@@ -67,13 +69,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
     let cancel = Arc::new(AtomicBool::new(false));
     install_ctrl_c(cancel.clone());
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .thread_name(|i| format!("crush-{i}"))
-        .build()
+    let runner = Runner::new(threads, |i| format!("crush-{i}"))
         .context("starting the solver's thread pool")?;
     let mut observer = BarObserver::new();
-    let result = pool.install(|| solver::run(&case, &mut observer, &cancel));
+    let result = runner.run(&case, &mut observer, &cancel);
     observer.bar().finish_and_clear();
 
     let history_path = out_dir.join("history.csv");
@@ -99,6 +98,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     print!("{}", format_report(&case, &summary, &mode_detail));
 
     write_history_csv(&history_path, &output.history)?;
+    let load_path = out_dir.join("load.svg");
+    write_load_svg(&load_path, &case, &output.history)?;
     let summary_path = out_dir.join("summary.json");
     let file = SummaryFile {
         label: case.spec().label.clone(),
@@ -106,13 +107,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         mode_detail,
     };
     write_summary_json(&summary_path, &file)?;
-    let mut written = vec![history_path, summary_path];
+    let mut written = vec![history_path, load_path, summary_path];
     if case.spec().output.final_state {
         let particles_path = out_dir.join("particles.csv");
         write_particles_csv(&particles_path, &output.snapshot)?;
+        let state_path = out_dir.join("state.vtu");
+        write_state_vtu(&state_path, &case, &output.snapshot)?;
         let shape_path = out_dir.join("shape.png");
         write_shape_png(&shape_path, &case, &output.snapshot)?;
-        written.extend([particles_path, shape_path]);
+        written.extend([particles_path, state_path, shape_path]);
     }
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     eprintln!("wrote {}", names.join(", "));

@@ -11,7 +11,6 @@ mod form;
 pub mod guard;
 pub mod hub;
 mod routes;
-pub mod state;
 pub mod store;
 pub mod sweep;
 mod views;
@@ -189,7 +188,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
          --allow-anonymous-remote to serve so anyway",
         args.host
     );
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cores = crate::solver::cores();
     let threads = match args.threads_per_job {
         0 => (cores / args.concurrent_jobs.max(1)).max(1),
         n => n,

@@ -11,7 +11,7 @@
 //! the base with its values set, and the check stops after [`MAX_ERRORS`] errors.
 
 use crate::solver::model::case::{field_paths, spec_from_value};
-use crate::solver::model::input::{clip, clip_quoted, object_from_str, JsonError};
+use crate::solver::model::input::{clip, clip_quoted, object_from_str, set_field, JsonError};
 use crate::solver::{Case, CaseError, FieldError, Limits};
 use serde::Deserialize;
 use serde_json::{Map, Value};
@@ -265,36 +265,14 @@ pub fn combinations<'a>(
         };
         for ((field, values), pick) in params.iter().zip(picks) {
             let value = &values[pick];
-            set(&mut combo.case, field, value.clone())
-                .map_err(|reason| fail(&format!("parameters.{field}"), &reason))?;
+            set_field(&mut combo.case, field, value.clone()).map_err(|walked| {
+                let reason = format!("cannot be set: base.{walked} is not an object");
+                fail(&format!("parameters.{field}"), &reason)
+            })?;
             combo.values.insert(field.clone(), value.clone());
         }
         Ok(combo)
     })
-}
-
-/// Sets the dotted `path` in `case`, making intermediate objects as needed.
-fn set(case: &mut Value, path: &str, value: Value) -> Result<(), String> {
-    let mut node = case;
-    let mut walked = Vec::new();
-    let segments: Vec<&str> = path.split('.').collect();
-    for (i, segment) in segments.iter().enumerate() {
-        let Some(object) = node.as_object_mut() else {
-            return Err(format!(
-                "cannot be set: base.{} is not an object",
-                walked.join(".")
-            ));
-        };
-        if i + 1 == segments.len() {
-            object.insert(segment.to_string(), value);
-            return Ok(());
-        }
-        walked.push(*segment);
-        node = object
-            .entry(segment.to_string())
-            .or_insert_with(empty_object);
-    }
-    Ok(())
 }
 
 fn fail(field: &str, reason: &str) -> FieldError {

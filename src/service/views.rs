@@ -38,6 +38,7 @@ pub struct JobLinks {
     pub plot: String,
     pub shape: String,
     pub state: String,
+    pub particles: String,
 }
 
 /// Where a job's checkpoint stands.
@@ -119,6 +120,7 @@ impl JobView {
                 plot: format!("{base}/plot.svg"),
                 shape: format!("{base}/shape.png"),
                 state: format!("{base}/state.vtu"),
+                particles: format!("{base}/particles.csv"),
                 this: base,
             },
         }

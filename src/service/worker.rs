@@ -4,10 +4,10 @@
 
 use super::checkpointing::{self, RunObserver};
 use super::hub::{self, Hub, JobObserver};
-use super::state;
 use super::store::{signals, Claimed, Result as StoreResult, Signal, Status, Store, Succeeded};
 use super::views;
-use crate::solver::{self, Case, Checkpoint, Limits, Progress, Resume, RunOutput, SolveError};
+use crate::export;
+use crate::solver::{Case, Checkpoint, Limits, Progress, Resume, RunOutput, Runner, SolveError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -318,12 +318,9 @@ impl Workers {
         running: &Arc<Running>,
     ) -> (Outcome, Option<hub::Publisher>) {
         let id = job.id;
-        let pool = match rayon::ThreadPoolBuilder::new()
-            .num_threads(self.config.threads_per_job)
-            .thread_name(move |i| format!("crush-{}-{i}", &id.simple().to_string()[..8]))
-            .build()
-        {
-            Ok(pool) => pool,
+        let name = move |i| format!("crush-{}-{i}", &id.simple().to_string()[..8]);
+        let runner = match Runner::new(self.config.threads_per_job, name) {
+            Ok(runner) => runner,
             Err(e) => return (Outcome::Failed(format!("no solver threads: {e}")), None),
         };
         let particles = running.particles;
@@ -360,10 +357,8 @@ impl Workers {
         ));
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
-            let out = pool.install(|| match from {
-                Some((_, _, from)) => solver::resume(&case, from, &mut observer, &cancel),
-                None => solver::run(&case, &mut observer, &cancel),
-            });
+            let from = from.map(|(_, _, from)| from);
+            let out = runner.resume(&case, from, &mut observer, &cancel);
             // The sink goes with the observer: the writer stores what it has and ends.
             (out, observer.job.publisher)
         })
@@ -428,7 +423,7 @@ impl Workers {
         let (id, lease) = (job.id, job.lease);
         match outcome {
             Outcome::Succeeded(out) => {
-                let state = keep_state.then(|| state::encode(&out.snapshot));
+                let state = keep_state.then(|| export::vtu::encode(&out.snapshot));
                 let result = Succeeded {
                     history: &out.history,
                     summary: &out.summary,

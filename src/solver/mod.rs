@@ -21,6 +21,7 @@
 pub mod analysis;
 pub mod engine;
 pub mod model;
+mod runner;
 
 pub use analysis::estimate::{estimate, Estimate};
 pub use analysis::mode::{detect_mode, CollapseMode, ModeDetail};
@@ -31,6 +32,7 @@ pub use engine::history::HistoryRow;
 pub use engine::observer::{Observer, Progress, Recorder};
 pub use engine::{Finished, RunCost, Snapshot, SolveError};
 pub use model::case::{Case, CaseError, CaseSpec, FieldError, Limits};
+pub use runner::{cores, Runner};
 
 use engine::scene::Scene;
 use std::sync::atomic::AtomicBool;
@@ -88,4 +90,58 @@ pub fn run_scene(
     cancel: &AtomicBool,
 ) -> Result<RunOutput, SolveError> {
     engine::run_scene(case, scene, observer, cancel).map(|r| RunOutput::of(case, r))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    /// Every Rust file under `dir`, with its text.
+    fn sources(dir: &Path) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                out.extend(sources(&path));
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                out.push((path.display().to_string(), text));
+            }
+        }
+        out
+    }
+
+    /// The floors as the module doc states them: the model imports neither the engine nor the
+    /// analysis, the engine not the analysis, and no floor the service's or the CLI's crates.
+    #[test]
+    fn each_floor_imports_only_the_floors_below_it() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/solver");
+        let rules: [(&str, &[&str]); 3] = [
+            ("model", &["engine::", "analysis::"]),
+            ("engine", &["analysis::"]),
+            ("analysis", &[]),
+        ];
+        let everywhere = [
+            "tokio",
+            "axum",
+            "sqlx",
+            "crate::service",
+            "crate::cli",
+            "std::fs",
+        ];
+        for (floor, forbidden) in rules {
+            let files = sources(&root.join(floor));
+            assert!(!files.is_empty(), "no files in {floor}");
+            for (file, text) in files {
+                for line in text.lines().map(str::trim) {
+                    if !(line.starts_with("use ") || line.starts_with("pub use ")) {
+                        continue;
+                    }
+                    for f in forbidden.iter().chain(&everywhere) {
+                        assert!(!line.contains(f), "{file}: `{line}` reaches {f}");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -69,6 +69,8 @@ pub struct TestApp {
     pub client: reqwest::Client,
     pub server: Option<crush::service::Server>,
     pub dir: tempfile::TempDir,
+    /// The database the server runs on.
+    pub db: String,
 }
 
 impl TestApp {
@@ -100,6 +102,7 @@ impl TestApp {
             client: client(),
             server: Some(server),
             dir,
+            db: db.to_string(),
         }
     }
 

@@ -47,8 +47,8 @@ pub fn run(args: ConvergenceArgs) -> anyhow::Result<()> {
                 &mut case,
                 "discretization.particles_through_thickness",
                 n.into(),
-            );
-            set(&mut case, "discretization.shape", shape.as_str().into());
+            )?;
+            set(&mut case, "discretization.shape", shape.as_str().into())?;
             let name = format!("{shape} n={n}");
             match run_case(&name, &case, threads)? {
                 Ok(done) => {
@@ -196,10 +196,7 @@ fn report(
 }
 
 fn threads_note() -> String {
-    format!(
-        "this machine ({} cores)",
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    )
+    format!("this machine ({} cores)", crate::solver::cores())
 }
 
 fn write_csv(

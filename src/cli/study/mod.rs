@@ -8,8 +8,11 @@ mod stability;
 
 use crate::plot::{self, Series};
 use crate::solver::engine::scene::Scene;
+use crate::solver::model::input::set_field;
 use crate::solver::Summary;
-use crate::solver::{self, Case, CaseError, HistoryRow, Limits, Observer, Progress, SolveError};
+use crate::solver::{
+    self, Case, CaseError, HistoryRow, Limits, Observer, Progress, Runner, SolveError,
+};
 use anyhow::Context;
 use serde_json::Value;
 use std::path::Path;
@@ -90,23 +93,11 @@ pub fn read_case(path: &Path) -> anyhow::Result<Value> {
     serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))
 }
 
-/// Sets the field at a dotted path (`"tube.length_mm"`), creating objects on the way.
-pub fn set(case: &mut Value, path: &str, value: Value) {
-    let mut at = case;
-    let mut parts = path.split('.').peekable();
-    while let Some(key) = parts.next() {
-        if !at.is_object() {
-            *at = Value::Object(Default::default());
-        }
-        let obj = at.as_object_mut().expect("an object");
-        if parts.peek().is_none() {
-            obj.insert(key.to_string(), value);
-            return;
-        }
-        at = obj
-            .entry(key.to_string())
-            .or_insert_with(|| Value::Object(Default::default()));
-    }
+/// Sets the field at a dotted path (`"tube.length_mm"`) of a study's case.
+pub fn set(case: &mut Value, path: &str, value: Value) -> anyhow::Result<()> {
+    set_field(case, path, value).map_err(|walked| {
+        anyhow::anyhow!("{path} cannot be set: {walked} is not an object in the case")
+    })
 }
 
 /// One line on stderr per history row fraction decile, so long studies show life.
@@ -140,24 +131,18 @@ pub fn run_case_changed(
     name: &str,
     json: &Value,
     threads: usize,
-    change: impl Fn(&mut Scene) + Send + Sync,
+    change: impl FnOnce(&mut Scene) + Send,
 ) -> anyhow::Result<Result<Finished, Failed>> {
     let text = serde_json::to_string(json)?;
     let case = match Case::from_json(&text, &Limits::default()) {
         Ok(c) => c,
         Err(e) => return Ok(Err(Failed::Rejected(e))),
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
+    let runner = Runner::new(threads, |i| format!("crush-study-{i}"))
         .context("starting the solver's thread pool")?;
     let mut observer = Quiet { name, next: 0.0 };
     let start = Instant::now();
-    let result = pool.install(|| {
-        let mut scene = Scene::from_case(&case);
-        change(&mut scene);
-        solver::run_scene(&case, scene, &mut observer, &AtomicBool::new(false))
-    });
+    let result = runner.run_changed(&case, change, &mut observer, &AtomicBool::new(false));
     let wall = start.elapsed().as_secs_f64();
     eprintln!("\r  {name:<28} done in {wall:.1} s");
     Ok(match result {
@@ -174,7 +159,7 @@ pub fn threads(flag: Option<usize>) -> anyhow::Result<usize> {
     match flag {
         Some(0) => anyhow::bail!("--threads must be at least 1"),
         Some(n) => Ok(n),
-        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+        None => Ok(solver::cores()),
     }
 }
 

@@ -36,7 +36,7 @@ pub fn run(args: SpeedArgs) -> anyhow::Result<()> {
     let (mut rows, mut curves, mut stopped) = (Vec::new(), Vec::new(), Vec::new());
     for &speed in &args.speeds {
         let mut case = base.clone();
-        set(&mut case, "loading.plate_speed_m_s", speed.into());
+        set(&mut case, "loading.plate_speed_m_s", speed.into())?;
         let name = format!("{speed} m/s");
         match run_case(&name, &case, threads)? {
             Ok(done) => {

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The base case when none is given: the design page's axial PVC tube, one cell through the
-/// wall (n = 2), 6 mm of crush (the coarse crush whose energy balance tests/crush.rs checks).
+/// wall (n = 2), 6 mm of crush (the coarse crush whose energy balance tests/solver/crush.rs checks).
 const BASE: &str = r#"{"label": "stability base: PVC t 3.2 d 22.2, axial, n 2",
   "tube": {"thickness_mm": 3.2, "mean_diameter_mm": 22.2, "length_mm": 76.2},
   "loading": {"mode": "axial", "plate_speed_m_s": 10, "crush_distance_mm": 6},
@@ -159,7 +159,7 @@ pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
         None => serde_json::from_str(BASE)?,
     };
     if let Some(c) = args.crush_mm {
-        set(&mut base, "loading.crush_distance_mm", c.into());
+        set(&mut base, "loading.crush_distance_mm", c.into())?;
     }
     let threads = threads(args.threads)?;
     std::fs::create_dir_all(&args.out)?;
@@ -170,7 +170,7 @@ pub fn run(args: StabilityArgs) -> anyhow::Result<()> {
         }
         let mut case = base.clone();
         for (path, value) in edits {
-            set(&mut case, path, value);
+            set(&mut case, path, value)?;
         }
         let mut o = Outcome {
             name,

@@ -87,6 +87,11 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("GET", "/v1/jobs/{id}/plot.svg", get(results::plot_svg)),
         ("GET", "/v1/jobs/{id}/shape.png", get(results::shape_png)),
         ("GET", "/v1/jobs/{id}/state.vtu", get(results::state_vtu)),
+        (
+            "GET",
+            "/v1/jobs/{id}/particles.csv",
+            get(results::particles_csv),
+        ),
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
         ("GET", "/v1/sweeps/{id}", get(sweeps::get)),

@@ -3,10 +3,10 @@
 //! 409 for one that has not succeeded.
 
 use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
+use crate::export::{self, FinalState};
 use crate::plot::{self, Series};
 use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
-use crate::service::state::{self, FinalState};
 use crate::service::store::{JobRecord, Status};
 use crate::solver::model::case::{spec_from_json, Geometry};
 use crate::solver::HistoryRow;
@@ -58,7 +58,7 @@ async fn final_state(
             what: format!("the final state of job {id} ({why})"),
         });
     };
-    let state = state::decode(particles, &bytes)
+    let state = export::vtu::decode(particles, &bytes)
         .ok_or_else(|| corrupt(format!("stored final state of job {id} has a wrong length")))?;
     Ok((record, geometry, state))
 }
@@ -136,25 +136,10 @@ pub async fn state_vtu(
 ) -> Result<Response, ApiError> {
     let permit = heavy_permit(&s).await?;
     let (_, geometry, state) = final_state(&s, &id, "VTU file").await?;
-    let (tx, rx) = tokio::sync::mpsc::channel(2);
-    tokio::task::spawn_blocking(move || {
-        let _permit = permit;
-        let mut sink = ChunkSink {
-            tx,
-            buffer: Vec::with_capacity(CHUNK),
-        };
+    let body = streamed(permit, "a VTU file", move |sink| {
         let note = geometry.symmetry_note();
-        let written = state::write_vtu(&mut sink, &geometry.positions(), &state, note)
-            .and_then(|()| std::io::Write::flush(&mut sink));
-        if let Err(e) = written {
-            if e.kind() != std::io::ErrorKind::BrokenPipe {
-                tracing::error!(error = %e, "writing a VTU file failed");
-                // Ends the body with an error: the client sees a cut transfer, not a file.
-                let _ = sink.tx.blocking_send(Err(e));
-            }
-        }
+        export::vtu::write_vtu(sink, &geometry.positions(), &state, note)
     });
-    let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
     let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
     let disposition = format!("attachment; filename=\"{id}.vtu\"");
     Ok(file_response(
@@ -163,6 +148,63 @@ pub async fn state_vtu(
         Some(CACHE),
         body,
     ))
+}
+
+/// The final particle state as CSV, the file `crush run` writes as `particles.csv`: start and
+/// final position (mm) and equivalent plastic strain per particle, from the stored state (f32).
+/// Streamed as `state.vtu` is.
+pub async fn particles_csv(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    connection: Option<Extension<Connection>>,
+) -> Result<Response, ApiError> {
+    let permit = heavy_permit(&s).await?;
+    let (_, geometry, state) = final_state(&s, &id, "particle table").await?;
+    let body = streamed(permit, "a particle table", move |sink| {
+        let start = geometry.positions();
+        let rows = start
+            .iter()
+            .zip(&state.position_mm)
+            .zip(&state.plastic_strain)
+            .map(|((a, b), e)| (*a, b.map(f64::from), f64::from(*e)));
+        export::csv::particles(sink, rows)
+            .map(|_| ())
+            .map_err(std::io::Error::other)
+    });
+    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let disposition = format!("attachment; filename=\"{id}-particles.csv\"");
+    Ok(file_response(
+        "text/csv; charset=utf-8",
+        Some(disposition),
+        Some(CACHE),
+        body,
+    ))
+}
+
+/// A body that `write` fills on a blocking thread, in [`CHUNK`]s sent as the client reads,
+/// holding `permit` until it is written; an error ends the body cut short (the client sees a
+/// cut transfer, not a file) and is logged as failing to write `what`.
+fn streamed(
+    permit: tokio::sync::OwnedSemaphorePermit,
+    what: &'static str,
+    write: impl FnOnce(&mut ChunkSink) -> std::io::Result<()> + Send + 'static,
+) -> axum::body::Body {
+    let (tx, rx) = tokio::sync::mpsc::channel(2);
+    tokio::task::spawn_blocking(move || {
+        let _permit = permit;
+        let mut sink = ChunkSink {
+            tx,
+            buffer: Vec::with_capacity(CHUNK),
+        };
+        let written = write(&mut sink).and_then(|()| std::io::Write::flush(&mut sink));
+        if let Err(e) = written {
+            if e.kind() != std::io::ErrorKind::BrokenPipe {
+                tracing::error!(error = %e, "writing {what} failed");
+                let _ = sink.tx.blocking_send(Err(e));
+            }
+        }
+    });
+    axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx))
 }
 
 /// A turn at building a large answer (held until it is sent, where the body is streamed);
@@ -187,7 +229,7 @@ const HEAVY_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
 
 /// Downloads built from a final state at a time; the rest wait their turn. Two: each build
 /// holds about 56 B a particle, and with four the allocator kept 147 MB after 20 downloads of
-/// a 266 k-particle state (`tests/api_download.rs`), against 92 MB with two.
+/// a 266 k-particle state (`tests/api/download.rs`), against 92 MB with two.
 pub const HEAVY_AT_ONCE: usize = 2;
 
 /// Bytes sent to the client at a time.
@@ -255,15 +297,10 @@ pub async fn history(
     let permit = heavy_permit(&s).await?;
     let rows = s.store.history(record.id).await?;
     let (content_type, disposition, bytes) = if csv {
-        let write = || -> Result<Vec<u8>, csv::Error> {
-            let mut w = csv::Writer::from_writer(Vec::new());
-            w.write_record(HistoryRow::COLUMNS)?;
-            for row in &rows {
-                w.write_record(row.iter().map(|v| v.to_string()))?;
-            }
-            w.into_inner().map_err(|e| e.into_error().into())
-        };
-        let bytes = write().map_err(ApiError::internal)?;
+        let values = rows
+            .iter()
+            .map(|r| std::array::from_fn(|k| r.get(k).copied().unwrap_or(f64::NAN)));
+        let bytes = export::csv::history(Vec::new(), values).map_err(ApiError::internal)?;
         let disposition = format!("inline; filename=\"{id}-history.csv\"");
         ("text/csv; charset=utf-8", Some(disposition), bytes)
     } else {

@@ -26,6 +26,7 @@
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
 
+use super::peaks::Peaks;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
@@ -172,25 +173,11 @@ fn median3(v: &[Real]) -> Vec<Real> {
 /// them and fall as much after; both ends stand on a trough at 0 (the plates hold the
 /// undeformed surface).
 fn count_bumps(profile: &[Real], margin: Real, reach: Real) -> u32 {
-    let (mut rising, mut trough, mut peak, mut bumps) = (true, 0.0, Real::MIN, 0);
+    let mut peaks = Peaks::from_trough(0.0);
     for &v in profile.iter().chain(std::iter::once(&0.0)) {
-        if rising {
-            if v > peak {
-                peak = v;
-            } else if peak - v >= margin && peak - trough >= margin && peak >= reach {
-                bumps += 1;
-                (rising, trough) = (false, v);
-            }
-            if v < trough {
-                (trough, peak) = (v, v);
-            }
-        } else if v < trough {
-            trough = v;
-        } else if v - trough >= margin {
-            (rising, peak) = (true, v);
-        }
+        peaks.push(v, margin, reach);
     }
-    bumps
+    peaks.count()
 }
 
 #[cfg(test)]

@@ -8,5 +8,6 @@
 pub mod estimate;
 pub mod folds;
 pub mod mode;
+pub mod peaks;
 pub mod reference;
 pub mod summary;

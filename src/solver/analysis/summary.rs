@@ -3,6 +3,7 @@
 
 use super::folds::count_folds;
 use super::mode::{detect_mode, CollapseMode, ModeDetail};
+use super::peaks::Peaks;
 use super::reference::{references, References};
 use crate::solver::engine::history::HistoryRow;
 use crate::solver::engine::{RunCost, Snapshot};
@@ -154,7 +155,7 @@ pub fn count_load_drops(history: &[HistoryRow]) -> u32 {
         _ => return 0,
     };
     let smooth = median_filtered(history);
-    let (mut rising, mut peak, mut trough, mut drops) = (true, f64::MIN, f64::MAX, 0);
+    let mut drops = Peaks::falls();
     for ((r, e), &p) in history.iter().zip(&energy).zip(&smooth) {
         let running = if r.displacement_mm > 0.0 {
             e / r.displacement_mm
@@ -162,20 +163,9 @@ pub fn count_load_drops(history: &[HistoryRow]) -> u32 {
             0.0
         };
         let margin = LOAD_DROP_FRACTION * running.max(0.5 * final_mean);
-        if rising {
-            if p > peak {
-                peak = p;
-            } else if peak - p >= margin {
-                drops += 1;
-                (rising, trough) = (false, p);
-            }
-        } else if p < trough {
-            trough = p;
-        } else if p - trough >= margin {
-            (rising, peak) = (true, p);
-        }
+        drops.push(p, margin, f64::MIN);
     }
-    drops
+    drops.count()
 }
 
 /// The load on the moving plate through a running median over ±max(2, rows/200) rows: a fold

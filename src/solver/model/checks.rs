@@ -84,7 +84,7 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
         .all(|v| v.is_finite() && *v > 0.0);
     if material_ok && !wave.is_finite() {
         // E / ρ overflows (E = 1e308 MPa, or ρ = 1e-300 kg/m³): no time step would be
-        // stable, and the run would never advance (found by tests/case_fuzz.rs).
+        // stable, and the run would never advance (found by tests/solver/case_fuzz.rs).
         for f in ["material.youngs_modulus_mpa", "material.density_kg_m3"] {
             c.fail(
                 f,

@@ -16,7 +16,7 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     let dt_ms = d.cfl * cell / (wave_speed_m_s(&spec.material) + speed);
     let steps = crush_mm / speed / dt_ms;
     // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
-    // underflow over a Δt of 0) is too many, not one (both found by tests/case_fuzz.rs).
+    // underflow over a Δt of 0) is too many, not one (both found by tests/solver/case_fuzz.rs).
     if steps.is_nan() {
         f64::INFINITY
     } else {

@@ -198,6 +198,29 @@ fn quoted_len(text: &str, quote: char) -> usize {
     text.len()
 }
 
+/// Sets the field at a dotted `path` of a case's JSON (`"tube.length_mm"`), making the sections
+/// on the way. When a step of the path holds something other than an object, nothing is set
+/// and the error is the path walked to it (empty: `case` itself is not an object).
+pub fn set_field(case: &mut Value, path: &str, value: Value) -> Result<(), String> {
+    let mut node = case;
+    let mut walked = Vec::new();
+    let segments: Vec<&str> = path.split('.').collect();
+    for (i, segment) in segments.iter().enumerate() {
+        let Some(object) = node.as_object_mut() else {
+            return Err(walked.join("."));
+        };
+        if i + 1 == segments.len() {
+            object.insert(segment.to_string(), value);
+            return Ok(());
+        }
+        walked.push(*segment);
+        node = object
+            .entry(segment.to_string())
+            .or_insert_with(|| Value::Object(Map::new()));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

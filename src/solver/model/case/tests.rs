@@ -244,7 +244,7 @@ fn extreme_material_values_are_refused_for_their_steps() {
 
 #[test]
 fn an_infinite_wave_speed_is_refused_not_run_with_a_zero_time_step() {
-    // Found by tests/case_fuzz.rs: ρ = 1e-300 gave c = ∞, Δt = 0, and with a crush of
+    // Found by tests/solver/case_fuzz.rs: ρ = 1e-300 gave c = ∞, Δt = 0, and with a crush of
     // 5e-324 mm, 0 / 0 steps, which counted as one: the run would never advance.
     let text = r#"{"material":{"density_kg_m3":1e-300},"loading":{"crush_distance_mm":5e-324}}"#;
     let errors = rejected_fields(text, &Limits::unbounded());

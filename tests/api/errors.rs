@@ -1,9 +1,7 @@
 //! Every class of bad input gets its status and an RFC 9457 problem naming the field, and the
 //! server stays up.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::time::Duration;
 

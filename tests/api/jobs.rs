@@ -1,8 +1,6 @@
 //! Jobs, sweeps and the estimate through the real HTTP API (server on port 0, temp SQLite).
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::collections::HashSet;
 use std::time::Duration;

@@ -4,9 +4,7 @@
 //! not reading, or by reading a trickle. Event streams, which only write, still live as long as
 //! their clients read.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use futures::StreamExt;
 use serde_json::json;
 use std::time::{Duration, Instant};

@@ -2,9 +2,7 @@
 //! stores none twice; stopped with SIGTERM it requeues what it was running and does not hang on
 //! open event streams.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::time::Duration;
 
 /// Waits on the event stream until the job reports progress.

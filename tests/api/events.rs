@@ -2,9 +2,7 @@
 //! running job sees the load curve from the start of the run, not only from the moment it
 //! connected.
 
-mod common;
-
-use common::{SseReader, TestApp};
+use crate::common::{SseReader, TestApp};
 use serde_json::json;
 use std::time::{Duration, Instant};
 
@@ -71,7 +69,7 @@ async fn a_stream_joined_mid_run_replays_the_run_so_far_then_follows_it() {
 #[tokio::test]
 async fn last_event_id_5000000_on_a_running_job_still_gets_the_final_event_and_the_stream_ends() {
     let app = TestApp::start(&["--heartbeat-ms", "100"]).await;
-    let id = app.submit(&common::medium_case()).await["id"]
+    let id = app.submit(&crate::common::medium_case()).await["id"]
         .as_str()
         .unwrap()
         .to_string();
@@ -113,7 +111,7 @@ async fn last_event_id_5000000_on_a_running_job_still_gets_the_final_event_and_t
 #[tokio::test]
 async fn a_running_jobs_stream_opens_with_one_status_event() {
     let app = TestApp::start(&["--heartbeat-ms", "100"]).await;
-    let id = app.submit(&common::long_case()).await["id"]
+    let id = app.submit(&crate::common::long_case()).await["id"]
         .as_str()
         .unwrap()
         .to_string();

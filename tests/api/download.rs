@@ -2,9 +2,7 @@
 //! with 266 000 particles downloaded as `state.vtu` by 20 clients at once. The file is streamed
 //! and built by at most a few requests at a time, so the server's peak memory stays bounded.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use futures::StreamExt;
 use serde_json::json;
 use std::time::Duration;

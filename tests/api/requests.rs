@@ -1,9 +1,7 @@
 //! Requests an attacker would send, through the real server on port 0: each gets a clear,
 //! small error at once, and the server keeps answering `/healthz` meanwhile.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Map, Value};
 use std::time::{Duration, Instant};
 

@@ -7,9 +7,7 @@
 //! under `CARGO_TARGET_TMPDIR`, not `/tmp`, which is often a tmpfs): without them they print
 //! why and return, showing as passed with a `SKIPPED` line on stderr.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -149,6 +147,7 @@ async fn a_read_only_database_answers_503_then_heals_without_a_restart() {
         client: client(),
         server: Some(server),
         dir: tempfile::tempdir().unwrap(),
+        db: db.clone(),
     };
     // A job that is running when the disk goes read-only and finishes during the outage.
     let id = app.submit(&medium_case()).await["id"]
@@ -235,6 +234,7 @@ async fn a_full_disk_answers_503_then_heals_when_space_is_freed() {
         client: client(),
         server: Some(server),
         dir: tempfile::tempdir().unwrap(),
+        db: db.clone(),
     };
     app.submit(&tiny_case()).await;
     // Fill the filesystem to the last byte.

@@ -2,9 +2,7 @@
 //! tube as PNG, the final state as VTU, and a case that keeps no state; and the web page's own
 //! routes (the page, its assets, the form's fields).
 
-mod common;
-
-use common::{get_json, tiny_case, TestApp};
+use crate::common::{get_json, tiny_case, TestApp};
 use serde_json::Value;
 use std::time::Duration;
 
@@ -216,4 +214,126 @@ async fn the_page_and_its_assets_are_served_from_the_binary() {
     assert_eq!(thickness["default"], 3.2);
     assert_eq!(thickness["min"], 0.0);
     assert_eq!(thickness["min_exclusive"], true);
+}
+
+/// `crush run` and the server export a run alike: the same case run by the CLI and by the
+/// server gives the same history and VTU bytes, and the server's particle table holds the CLI's
+/// rows (its final positions as stored, in f32).
+#[tokio::test]
+async fn the_server_gives_the_files_crush_run_writes() {
+    let app = TestApp::start(&[]).await;
+    let case = tiny_case();
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("case.json");
+    std::fs::write(&file, case.to_string()).unwrap();
+    let out = dir.path().join("out");
+    let ran = std::process::Command::new(env!("CARGO_BIN_EXE_crush"))
+        .args(["run", file.to_str().unwrap(), "--threads", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    for name in [
+        "history.csv",
+        "load.svg",
+        "summary.json",
+        "particles.csv",
+        "state.vtu",
+        "shape.png",
+    ] {
+        assert!(out.join(name).is_file(), "crush run wrote no {name}");
+    }
+
+    let download = |path: String| {
+        let (client, url) = (app.client.clone(), app.at(&path));
+        async move {
+            let r = client.get(url).send().await.unwrap();
+            assert_eq!(r.status(), 200, "{path}");
+            r.bytes().await.unwrap().to_vec()
+        }
+    };
+    let history = download(format!("/v1/jobs/{id}/history?format=csv")).await;
+    assert_eq!(history, std::fs::read(out.join("history.csv")).unwrap());
+    let vtu = download(format!("/v1/jobs/{id}/state.vtu")).await;
+    assert_eq!(vtu, std::fs::read(out.join("state.vtu")).unwrap());
+
+    let served = download(format!("/v1/jobs/{id}/particles.csv")).await;
+    let rows = |bytes: &[u8]| -> Vec<Vec<f64>> {
+        let mut r = csv::Reader::from_reader(bytes);
+        assert_eq!(
+            r.headers().unwrap().iter().collect::<Vec<_>>(),
+            [
+                "x0_mm",
+                "y0_mm",
+                "z0_mm",
+                "x_mm",
+                "y_mm",
+                "z_mm",
+                "plastic_strain"
+            ]
+        );
+        r.records()
+            .map(|rec| rec.unwrap().iter().map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let (served, written) = (
+        rows(&served),
+        rows(&std::fs::read(out.join("particles.csv")).unwrap()),
+    );
+    assert_eq!(served.len(), job["particles"].as_u64().unwrap() as usize);
+    assert_eq!(served.len(), written.len());
+    for (s, w) in served.iter().zip(&written) {
+        assert_eq!(s[..3], w[..3], "start positions");
+        for k in 3..7 {
+            assert_eq!(s[k], f64::from(w[k] as f32), "column {k}");
+        }
+    }
+}
+
+/// A succeeded job whose case a check added later refuses (here a crush shorter than the grid
+/// resolves) still gives its picture and its files: a download reads the stored case's geometry
+/// without checking the case again.
+#[tokio::test]
+async fn a_succeeded_job_whose_case_a_later_check_refuses_still_gives_its_files() {
+    let app = TestApp::start(&[]).await;
+    let id = app.submit(&tiny_case()).await["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let mut refused = tiny_case();
+    refused["loading"]["crush_distance_mm"] = 1e-3.into();
+    assert_eq!(app.post_json("/v1/jobs", &refused).await.status(), 422);
+    sqlx::any::install_default_drivers();
+    let pool = sqlx::AnyPool::connect(&app.db).await.unwrap();
+    sqlx::query("UPDATE jobs SET case_json = $1 WHERE id = $2")
+        .bind(refused.to_string())
+        .bind(&id)
+        .execute(&pool)
+        .await
+        .unwrap();
+    pool.close().await;
+    for path in [
+        "shape.png",
+        "state.vtu",
+        "particles.csv",
+        "history",
+        "plot.svg",
+    ] {
+        let r = app.get(&format!("/v1/jobs/{id}/{path}")).await;
+        assert_eq!(r.status(), 200, "{path}");
+    }
 }

@@ -4,9 +4,7 @@
 //! once, and the killed node rejoins. Run with `eval "$(bash .ci/postgres)"` (or any server
 //! named by `CRUSH_TEST_POSTGRES`); without one the tests show as ignored.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use futures::StreamExt;
 use serde_json::Value;
 use sqlx::{Connection, PgConnection};

@@ -11,9 +11,7 @@
 //! *ignored*, unless `CRUSH_BROWSER_TEST=required` (as CI sets), which makes it run and fail
 //! when they are missing.
 
-mod common;
-
-use common::TestApp;
+use crate::common::TestApp;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -167,7 +165,7 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     };
     let shots = std::env::var_os("CRUSH_SCREENSHOTS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| common::repo_file("target/browser-screenshots"));
+        .unwrap_or_else(|| crate::common::repo_file("target/browser-screenshots"));
     std::fs::create_dir_all(&shots).unwrap();
     let app = TestApp::start(&["--concurrent-jobs", "2"]).await;
     let driver = start_driver(&chromedriver).await;
@@ -223,7 +221,7 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
         hash == "" || hash == "#/",
         "navigated to {hash} after a refused case"
     );
-    let jobs = common::get_json(&app.client, &app.at("/v1/jobs")).await;
+    let jobs = crate::common::get_json(&app.client, &app.at("/v1/jobs")).await;
     assert_eq!(
         jobs["jobs"].as_array().unwrap().len(),
         0,
@@ -457,7 +455,7 @@ async fn the_page_asks_for_a_token_once_and_keeps_it_in_a_cookie() {
         .client
         .post(app.at("/v1/jobs"))
         .bearer_auth(token)
-        .json(&common::tiny_case())
+        .json(&crate::common::tiny_case())
         .send()
         .await
         .unwrap();
@@ -483,7 +481,7 @@ async fn the_page_asks_for_a_token_once_and_keeps_it_in_a_cookie() {
     assert_eq!(bars.as_u64(), Some(1));
     let shots = std::env::var_os("CRUSH_SCREENSHOTS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| common::repo_file("target/browser-screenshots"));
+        .unwrap_or_else(|| crate::common::repo_file("target/browser-screenshots"));
     std::fs::create_dir_all(&shots).unwrap();
     shot(&c, &shots, "7-token").await;
     // A wrong token is refused where it was typed.

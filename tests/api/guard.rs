@@ -2,9 +2,7 @@
 //! cookie, the owner of a job, the `Host` a request names, cross-site requests, the per-client
 //! rate limit and the security headers. The connection time limits are in `api_timeouts.rs`.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use reqwest::header::HeaderMap;
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};

@@ -1,7 +1,7 @@
-//! A succeeded job's final particle state as the store keeps it (little-endian f32, 16 bytes a
-//! particle: position x, y, z in mm, then the equivalent plastic strain) and as clients download
-//! it: a VTK XML unstructured grid (`.vtu`, one vertex cell per particle) that ParaView opens,
-//! with the plastic strain and the displacement from the start (mm) as point data.
+//! A run's final particle state as the server's store keeps it (little-endian f32, 16 bytes a
+//! particle: position x, y, z in mm, then the equivalent plastic strain) and as it is exported:
+//! a VTK XML unstructured grid (`.vtu`, one vertex cell per particle) that ParaView opens, with
+//! the plastic strain and the displacement from the start (mm) as point data.
 //!
 //! The file is written straight to any `Write` (the download streams it in chunks), never
 //! built whole: its arrays are inline base64 of (u64 byte count, little-endian values), as
@@ -31,6 +31,20 @@ impl FinalState {
 
     pub fn is_empty(&self) -> bool {
         self.position_mm.is_empty()
+    }
+}
+
+impl FinalState {
+    /// A run's final state, in f32.
+    pub fn of(snapshot: &Snapshot) -> FinalState {
+        FinalState {
+            position_mm: snapshot
+                .position_mm
+                .iter()
+                .map(|x| x.map(|v| v as f32))
+                .collect(),
+            plastic_strain: snapshot.plastic_strain.iter().map(|&e| e as f32).collect(),
+        }
     }
 }
 

@@ -1,0 +1,83 @@
+//! One harness for every caller of the solver — `crush run`, the studies, the bench and the
+//! server's workers: a case run on a rayon pool of its own, so that a run uses the threads it
+//! was given whatever else the process runs, and its results do not depend on them (every sum
+//! of a step runs in a fixed order).
+
+use super::engine::scene::Scene;
+use super::{Case, Observer, Resume, RunOutput, SolveError};
+use std::sync::atomic::AtomicBool;
+
+/// The machine's cores (1 when it cannot tell).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A pool of solver threads that runs cases.
+pub struct Runner {
+    pool: rayon::ThreadPool,
+}
+
+impl Runner {
+    /// A pool of `threads` solver threads (0: one per core), the i-th named `name(i)`.
+    pub fn new(
+        threads: usize,
+        name: impl Fn(usize) -> String + Send + Sync + 'static,
+    ) -> Result<Runner, rayon::ThreadPoolBuildError> {
+        let threads = if threads == 0 { cores() } else { threads };
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(name)
+            .build()
+            .map(|pool| Runner { pool })
+    }
+
+    /// Solver threads in the pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// [`super::run`] on the pool.
+    pub fn run(
+        &self,
+        case: &Case,
+        observer: &mut (dyn Observer + Send),
+        cancel: &AtomicBool,
+    ) -> Result<RunOutput, SolveError> {
+        self.pool.install(|| super::run(case, observer, cancel))
+    }
+
+    /// [`super::resume`] on the pool, or [`super::run`] without a checkpoint.
+    pub fn resume(
+        &self,
+        case: &Case,
+        from: Option<Resume>,
+        observer: &mut (dyn Observer + Send),
+        cancel: &AtomicBool,
+    ) -> Result<RunOutput, SolveError> {
+        self.pool.install(|| match from {
+            Some(from) => super::resume(case, from, observer, cancel),
+            None => super::run(case, observer, cancel),
+        })
+    }
+
+    /// [`super::run_scene`] on the pool, with the scene built from `case` and then changed by
+    /// `change` on the pool's thread.
+    pub fn run_changed(
+        &self,
+        case: &Case,
+        change: impl FnOnce(&mut Scene) + Send,
+        observer: &mut (dyn Observer + Send),
+        cancel: &AtomicBool,
+    ) -> Result<RunOutput, SolveError> {
+        self.pool.install(|| {
+            let mut scene = Scene::from_case(case);
+            change(&mut scene);
+            super::run_scene(case, scene, observer, cancel)
+        })
+    }
+
+    /// Anything else on the pool (the bench's timed steps).
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.pool.install(f)
+    }
+}
