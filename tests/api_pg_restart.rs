@@ -1,4 +1,4 @@
-//! The PostgreSQL server restarted under load, and stopped for a while (issue 14): nodes keep
+//! The PostgreSQL server restarted under load, and stopped for a while: nodes keep
 //! serving what needs no database, answer 503 with `Retry-After` where they need it (never
 //! 500), reconnect by themselves, and every submit answered 202 ends succeeded with one history
 //! and one summary. In a test binary of its own, since it stops the server every other

@@ -1,4 +1,4 @@
-//! Several nodes on one PostgreSQL database (issue 14), against a real server: three nodes share
+//! Several nodes on one PostgreSQL database, against a real server: three nodes share
 //! 300 jobs, each run exactly once; a client of one node follows a run on another and a cancel
 //! sent to a third stops it; a node killed mid-run loses its job to another, which finishes it
 //! once, and the killed node rejoins. Run with `eval "$(bash .ci/postgres)"` (or any server

@@ -282,7 +282,7 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     );
 }
 
-/// Issue 10's three requests whose particle count overflowed: each is a 422 naming the tube's
+/// The three requests whose particle count overflowed: each is a 422 naming the tube's
 /// fields, from `/v1/jobs` and `/v1/estimate` alike, and the server stays up.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn particle_counts_that_overflowed_u64_are_refused_not_run() {
@@ -316,7 +316,7 @@ async fn particle_counts_that_overflowed_u64_are_refused_not_run() {
     assert_eq!(app.get("/healthz").await.status(), 200);
 }
 
-/// Issue 10: a plate speed of 1e-300 m/s was accepted with an estimate of 1.8e19 steps.
+/// What broke: a plate speed of 1e-300 m/s was accepted with an estimate of 1.8e19 steps.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     let app = TestApp::start(&[
@@ -404,7 +404,7 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     assert_eq!(fields(&p), vec!["discretization.model"]);
 }
 
-/// Issue 10: a job stored by an older version whose count had wrapped crashed the server when
+/// What broke: a job stored by an older version whose count had wrapped crashed the server when
 /// the worker built its scene, at every restart. Now the worker checks the case again and
 /// fails the job with the reason.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -465,7 +465,7 @@ async fn a_stored_job_that_would_overflow_fails_with_the_reason_instead_of_crash
     server.stop().await.unwrap();
 }
 
-/// Issue 10's smaller items: a body that is not one JSON object, a body without a content type,
+/// Smaller things that broke: a body that is not one JSON object, a body without a content type,
 /// ids in other spellings, and a cursor that was a row number.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn bodies_ids_and_cursors_are_read_one_way_only() {
@@ -531,7 +531,7 @@ async fn bodies_ids_and_cursors_are_read_one_way_only() {
     }
 }
 
-/// Issue 10: a 414 and the 400s of a malformed header came from hyper with no body; now they
+/// What broke: a 414 and the 400s of a malformed header came from hyper with no body; now they
 /// are problem+json like every other error.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn errors_hyper_answers_itself_are_problem_json_too() {

@@ -141,7 +141,7 @@ proptest! {
                 prop_assert!(!errors.is_empty());
                 for e in &errors {
                     prop_assert!(!e.field.is_empty() && !e.reason.is_empty(), "{text}: {e:?}");
-                    // A count that saturated a u64 (issue 10) would read 1844674407370955…
+                    // A count that saturated a u64 (what broke once) would read 1844674407370955…
                     prop_assert!(!e.reason.contains("gives 18446744073709551"), "{text}: {e:?}");
                 }
             }

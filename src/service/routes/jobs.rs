@@ -290,7 +290,7 @@ mod tests {
 
     #[test]
     fn a_cursor_is_opaque_and_round_trips() {
-        // Issue 10: the cursor was the raw row number.
+        // What broke: the cursor was the raw row number.
         for seq in [1, 42, i64::MAX] {
             let c = encode_cursor(seq);
             assert!(c.parse::<i64>().is_err(), "{c}");

@@ -7,7 +7,7 @@ use super::kernel::Energies;
 use super::kernel::SolveError;
 use super::particles::Particles;
 use super::scene::Scene;
-use crate::solver::model::material::{Increment, Law, MaterialLaw, Point, Sym};
+use crate::solver::model::material::{Increment, Law, MaterialLaw, Point, Sym, WithLaw};
 use crate::solver::Real;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -128,18 +128,32 @@ pub(crate) trait Deformation: Sync {
 }
 
 /// The stress update of every particle `p` under the scene's law, for the 3D simulation and
-/// the sections alike ([`update_particles_as`] with the law as a type: one match a step, and
-/// the loop over the particles is monomorphic).
+/// the sections alike ([`update_particles_as`] with the law as a type, [`MaterialLaw::with`]:
+/// one match a step, and the loop over the particles is monomorphic).
 pub(crate) fn update_particles(
     p: &mut Particles,
     (law, books): (&MaterialLaw, &Books),
     chunks: (usize, &mut Vec<ChunkSums>),
     model: &impl Deformation,
 ) {
-    match law {
-        MaterialLaw::Elastic(law) => update_particles_as(p, (law, books), chunks, model),
-        MaterialLaw::J2(law) => update_particles_as(p, (law, books), chunks, model),
+    struct Update<'a, D> {
+        p: &'a mut Particles,
+        books: &'a Books,
+        chunks: (usize, &'a mut Vec<ChunkSums>),
+        model: &'a D,
     }
+    impl<D: Deformation> WithLaw for Update<'_, D> {
+        type Output = ();
+        fn with<L: Law>(self, law: &L) {
+            update_particles_as(self.p, (law, self.books), self.chunks, self.model);
+        }
+    }
+    law.with(Update {
+        p,
+        books,
+        chunks,
+        model,
+    });
 }
 
 /// The stress update of every particle `p` under `law`, four at a time, in parallel chunks of

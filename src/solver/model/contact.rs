@@ -4,13 +4,13 @@
 //!
 //! Which nodes are in contact, and with which plate: those that a particle touching a plate
 //! contributes mass to (`touching`, scattered as `Node::touch` with the sign of that plate's
-//! side), and the plate whose touching particles gave the node more mass. The first version took
-//! every node within one cell of the plate instead; each time the plate crossed a node plane a
-//! whole layer of nodes was caught at once, giving load spikes of 3–5 times the mean every cell
-//! of travel in the lateral crush, and the material within a cell of the plate acted as a rigid
-//! end cap. The second took the plate nearest the node, which is wrong once the plates are a
-//! few cells apart (the end of every lateral crush): a node that only bottom-touching particles
-//! reach could be held by the top plate.
+//! side), and the plate whose touching particles gave the node more mass. Not every node within
+//! one cell of the plate: each time the plate crosses a node plane a whole layer of nodes would
+//! be caught at once (load spikes of 3–5 times the mean every cell of travel in the lateral
+//! crush), and the material within a cell of the plate would act as a rigid end cap. Not the
+//! plate nearest the node: that is wrong once the plates are a few cells apart (the end of every
+//! lateral crush), where a node that only bottom-touching particles reach could be held by the
+//! top plate.
 //!
 //! Energy: a projection of a node's velocity against a plate of velocity V with impulse J does
 //! work J·V on the tube (the plate's work) and J·v̄ on the node, v̄ the node's mean velocity over

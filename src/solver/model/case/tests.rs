@@ -150,7 +150,7 @@ fn rejected_fields(text: &str, limits: &Limits) -> Vec<FieldError> {
 
 #[test]
 fn a_wall_of_1e_300_mm_is_refused_not_counted_as_4_particles() {
-    // Issue 10: the u64 count saturated and wrapped to 4, the case was accepted and the
+    // What broke: the u64 count saturated and wrapped to 4, the case was accepted and the
     // scene tried to build ~2⁶⁴ particles.
     let errors = rejected_fields(r#"{"tube":{"thickness_mm":1e-300}}"#, &Limits::default());
     let named: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
@@ -164,7 +164,7 @@ fn a_wall_of_1e_300_mm_is_refused_not_counted_as_4_particles() {
 
 #[test]
 fn a_kilometre_tube_is_refused_not_counted_as_0_particles() {
-    // Issue 10: 2⁶⁴ particles exactly wrapped to 0.
+    // What broke: 2⁶⁴ particles exactly wrapped to 0.
     let text = r#"{"tube":{"thickness_mm":1,"mean_diameter_mm":1367130551.2,"length_mm":4294967296},"discretization":{"particles_through_thickness":1}}"#;
     let errors = rejected_fields(text, &Limits::unbounded());
     assert!(
@@ -178,7 +178,7 @@ fn a_kilometre_tube_is_refused_not_counted_as_0_particles() {
 
 #[test]
 fn a_1e300_mm_tube_reports_its_count_without_saturating() {
-    // Issue 10: the 422 said "gives 18446744073709551267 particles" (a saturated u64).
+    // What broke: the 422 said "gives 18446744073709551267 particles" (a saturated u64).
     let errors = rejected_fields(r#"{"tube":{"length_mm":1e300}}"#, &Limits::default());
     let reason = &errors
         .iter()
@@ -202,7 +202,7 @@ fn no_limit_admits_more_particles_than_their_u32_ids() {
 
 #[test]
 fn a_plate_speed_of_1e_300_is_refused_for_its_steps() {
-    // Issue 10: accepted with an estimate of 1.8e19 steps (a saturated u64).
+    // What broke: accepted with an estimate of 1.8e19 steps (a saturated u64).
     let errors = rejected_fields(
         r#"{"loading":{"plate_speed_m_s":1e-300}}"#,
         &Limits::default(),
@@ -225,7 +225,7 @@ fn a_plate_speed_of_1e_300_is_refused_for_its_steps() {
 
 #[test]
 fn extreme_material_values_are_refused_for_their_steps() {
-    // Issue 10's probe: each of these exceeded 1e8 steps and was accepted.
+    // What broke: each of these exceeded 1e8 steps and was accepted.
     for text in [
         r#"{"loading":{"plate_speed_m_s":1e-9}}"#,
         r#"{"discretization":{"cfl":5e-324}}"#,
@@ -419,7 +419,7 @@ fn type_errors_and_unknown_fields_name_the_field() {
 
 #[test]
 fn an_array_or_trailing_text_is_not_a_case() {
-    // Issue 10: `[]` was read as the default case, and `/v1/estimate` took `{} x` and `{}{}`.
+    // What broke: `[]` was read as the default case, and `/v1/estimate` took `{} x` and `{}{}`.
     for text in [
         "[]", "[1]", "3", "\"{}\"", "null", "{} x", "{}{}", "{} {}", "{},",
     ] {

@@ -166,11 +166,30 @@ impl MaterialLaw {
 
     /// P-wave (constrained) modulus λ + 2G, MPa.
     pub fn p_wave_modulus(&self) -> Real {
+        struct Modulus;
+        impl WithLaw for Modulus {
+            type Output = Real;
+            fn with<L: Law>(self, law: &L) -> Real {
+                law.p_wave_modulus()
+            }
+        }
+        self.with(Modulus)
+    }
+
+    /// `task` run with the law as a type: the one place where the case's choice of law becomes
+    /// one, so that a loop over the particles inside `task` is monomorphic.
+    pub fn with<W: WithLaw>(&self, task: W) -> W::Output {
         match self {
-            MaterialLaw::Elastic(m) => m.p_wave_modulus(),
-            MaterialLaw::J2(m) => m.p_wave_modulus(),
+            MaterialLaw::Elastic(law) => task.with(law),
+            MaterialLaw::J2(law) => task.with(law),
         }
     }
+}
+
+/// Work to do with a law once its kind is a type ([`MaterialLaw::with`]).
+pub trait WithLaw {
+    type Output;
+    fn with<L: Law>(self, law: &L) -> Self::Output;
 }
 
 /// Lamé's first parameter λ and the shear modulus G (MPa) of Young's modulus E (MPa) and
