@@ -3,7 +3,7 @@
 
 mod sweep;
 
-pub use sweep::SweepView;
+pub use sweep::{SweepListItem, SweepView};
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status};
