@@ -10,6 +10,7 @@ mod error;
 mod form;
 pub mod guard;
 pub mod hub;
+mod metrics;
 mod retention;
 mod routes;
 pub mod state;

@@ -3,7 +3,7 @@
 //! 409 for one that has not succeeded.
 
 use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
-use crate::plot::{self, Series};
+use crate::plot::{self, Level, Series};
 use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::state::{self, FinalState};
@@ -96,12 +96,25 @@ pub async fn plot_svg(
         )));
     };
     let title = title(&record);
+    let mean = record.summary.as_ref().map(|s| s.mean_load_n);
     let svg = render(move || {
         let series = [Series {
             name: "load on the moving plate".into(),
             points: rows.iter().map(|r| (r[u], r[p] / 1000.0)).collect(),
         }];
-        plot::lines_svg((&title, "plate travel, mm", "load, kN"), &series, false)
+        let levels: Vec<Level> = mean
+            .map(|n| Level {
+                name: format!("mean load {:.3} kN", n / 1000.0),
+                y: n / 1000.0,
+            })
+            .into_iter()
+            .collect();
+        plot::lines_svg(
+            (&title, "plate travel, mm", "load, kN"),
+            &series,
+            &levels,
+            false,
+        )
     })
     .await?;
     Ok(file_response("image/svg+xml", None, Some(CACHE), svg))
