@@ -160,7 +160,16 @@ pub async fn list(
         None
     };
     let jobs: Vec<JobView> = records.iter().map(|r| JobView::new(r, false)).collect();
-    Ok(Json(serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor })).into_response())
+    let stored = s.store.counts().await?;
+    let counts: serde_json::Map<String, Value> = Status::ALL
+        .iter()
+        .map(|st| {
+            let n = stored.iter().find(|(x, _)| x == st).map_or(0, |(_, n)| *n);
+            (st.as_str().to_string(), n.into())
+        })
+        .collect();
+    let page = serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor, "counts": counts });
+    Ok(Json(page).into_response())
 }
 
 /// The list cursor clients get: where the page ended, tagged and base64url-encoded so that it
