@@ -1,6 +1,7 @@
 //! The one error type of the HTTP layer, answered as RFC 9457 `application/problem+json`.
 //! Internal failures are logged and answered with a generic detail: nothing internal leaks.
 
+use crate::solver::input::clip;
 use crate::solver::{CaseError, FieldError};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -26,7 +27,8 @@ pub enum ApiError {
     Conflict { detail: String },
     #[error("{}", too_large(*limit))]
     TooLarge { limit: usize },
-    #[error("unsupported content type {0:?}; send application/json")]
+    /// The content type the client sent, quoted at most [`clip`]'s length, whoever refuses it.
+    #[error("unsupported content type {:?}; send application/json", clip(.0))]
     UnsupportedMediaType(String),
     /// Parses, but makes no physical or computational sense: every field named.
     #[error("{detail}")]
@@ -47,7 +49,10 @@ pub enum ApiError {
     #[error("{detail}")]
     Forbidden { detail: String },
     /// A `Host` this server does not answer to (DNS rebinding).
-    #[error("this server does not answer to the host {host:?}; it answers to {answers}")]
+    #[error(
+        "this server does not answer to the host {:?}; it answers to {answers}",
+        clip(host)
+    )]
     UnknownHost { host: String, answers: String },
     /// The request body did not arrive in time.
     #[error("the request body did not arrive within {seconds} s")]
