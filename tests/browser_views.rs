@@ -52,6 +52,15 @@ async fn rows(c: &Client, table: &str) -> u64 {
     .unwrap()
 }
 
+/// Clicks the element `css` from inside the page, in one step: the side lists are redrawn every
+/// few seconds, and an element found by WebDriver may be replaced before its click arrives.
+async fn click_in_page(c: &Client, css: &str) {
+    let script = format!(
+        "const e = document.querySelector({css:?}); if (!e) return false; e.click(); return true;"
+    );
+    until(c, &script, LONG, css).await;
+}
+
 /// Clicks a download link and reads the file the browser saved in `dir` as `name`.
 async fn downloaded(c: &Client, css: &str, dir: &std::path::Path, name: &str) -> String {
     click(c, css).await;
@@ -161,7 +170,7 @@ async fn the_page_searches_lists_sweeps_overlays_reruns_and_deletes() {
     shot(&c, &shots, "9-sweeps").await;
 
     // The sweep's table names its columns with their units.
-    click(&c, "#sweep-list tbody a").await;
+    click_in_page(&c, "#sweep-list tbody a").await;
     until(
         &c,
         &format!("return location.hash === '#/sweeps/{sweep}';"),
@@ -214,7 +223,7 @@ async fn the_page_searches_lists_sweeps_overlays_reruns_and_deletes() {
         .unwrap()
         .to_string();
     for id in [&jobs[0].1, &jobs[2].1, &sweep_job] {
-        click(&c, &format!("input[data-pick='{id}']")).await;
+        click_in_page(&c, &format!("input[data-pick='{id}']")).await;
     }
     until(
         &c,
