@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Throughput of tiny jobs through the whole path (submit -> claim -> run -> store) for N crush
-nodes on one database, and the nodes' claim latency (their /metrics quantiles).
+nodes on one database, and the nodes' claim latency (quantiles of their /metrics histogram).
 
     cargo build --release
     eval "$(bash .ci/postgres)"          # or any PostgreSQL: CRUSH_TEST_POSTGRES=postgres://...
@@ -75,6 +75,26 @@ def metric(text, name):
     return float(m.group(1)) if m else None
 
 
+def histogram_quantile(text, name, q):
+    """The q-quantile of the histogram `name` in an OpenMetrics text, interpolated linearly
+    within the bucket it falls in, as Prometheus' histogram_quantile does (so it is known to
+    the buckets' resolution: they double)."""
+    buckets = sorted(
+        (float("inf") if le == "+Inf" else float(le), float(n))
+        for le, n in re.findall(rf'^{re.escape(name)}_bucket{{le="([^"]+)"}} (\S+)$', text, re.M))
+    if not buckets or buckets[-1][1] == 0:
+        return None
+    rank = q * buckets[-1][1]
+    lower, below = 0.0, 0.0
+    for upper, count in buckets:
+        if count >= rank:
+            if upper == float("inf"):
+                return lower
+            return lower + (upper - lower) * (rank - below) / max(count - below, 1e-12)
+        lower, below = upper, count
+    return None
+
+
 def one_run(args, tmp):
     db = fresh_database(args.backend, tmp)
     nodes = []
@@ -97,8 +117,8 @@ def one_run(args, tmp):
         claims = []
         for u in urls:
             text = request(f"{u}/metrics")
-            claims.append((metric(text, 'crush_claim_seconds{quantile="0.5"}'),
-                           metric(text, 'crush_claim_seconds{quantile="0.99"}')))
+            claims.append((histogram_quantile(text, "crush_claim_seconds", 0.5),
+                           histogram_quantile(text, "crush_claim_seconds", 0.99)))
         return total, queued, claims
     finally:
         for p, _ in nodes:

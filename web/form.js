@@ -129,6 +129,54 @@ function checkAll() {
   return first;
 }
 
+/// The sweep the form asks for: the field and its values (null when there is none; no values
+/// when they do not read as numbers).
+function sweepPlan() {
+  const field = document.getElementById("sweep-field").value;
+  if (!field) return null;
+  const raw = document.getElementById("sweep-values").value.split(",").map((x) => x.trim()).filter(Boolean);
+  const values = raw.map(Number);
+  return { field, values: values.some((v) => !Number.isFinite(v)) ? [] : values };
+}
+
+/// The case with one field set (a dotted path).
+function withField(c, field, value) {
+  const copy = JSON.parse(JSON.stringify(c));
+  const parts = field.split(".");
+  let at = copy;
+  for (const p of parts.slice(0, -1)) at = at[p] = at[p] || {};
+  at[parts[parts.length - 1]] = value;
+  return copy;
+}
+
+/// Most runs of a sweep estimated one by one; a longer sweep is estimated from this many values
+/// spread over its list, and the total scaled to all of them.
+const MAX_ESTIMATED = 20;
+
+/// The cost of the whole sweep: every run's estimate added up (the cases differ in the swept
+/// field), written under the case's own estimate.
+async function estimateSweep(base, seq) {
+  const out = document.getElementById("sweep-estimate");
+  const plan = sweepPlan();
+  if (!plan || !plan.values.length) { out.textContent = ""; return; }
+  const n = plan.values.length;
+  const picks = n <= MAX_ESTIMATED ? plan.values
+    : Array.from({ length: MAX_ESTIMATED }, (_, i) => plan.values[Math.round((i * (n - 1)) / (MAX_ESTIMATED - 1))]);
+  const answers = await Promise.all(picks.map((v) => api("POST", "/v1/estimate", withField(base, plan.field, v))));
+  if (seq !== estimateSeq || !document.getElementById("sweep-estimate")) return;
+  const ok = answers.filter((r) => r.ok).map((r) => r.data);
+  const refused = answers.length - ok.length;
+  if (!ok.length) { out.textContent = `The sweep: no value of ${plan.field} gives a case the server accepts.`; return; }
+  const sum = ok.reduce((t, e) => t + e.wall_time_s, 0);
+  const total = (sum / ok.length) * n;
+  const longest = Math.max(...ok.map((e) => e.wall_time_s));
+  const particles = ok.reduce((t, e) => t + e.particles, 0) / ok.length;
+  out.textContent = `The sweep: ${n} jobs, about ${seconds(total)} of run time in all ` +
+    `(the longest about ${seconds(longest)}; ${Math.round(particles).toLocaleString()} particles on average)` +
+    (n > picks.length ? `, from ${picks.length} of its ${n} values` : "") +
+    (refused ? `; ${refused} of the values estimated give a case the server refuses` : "") + ".";
+}
+
 let estimateTimer = null;
 let estimateSeq = 0;
 function scheduleEstimate() {
@@ -138,7 +186,9 @@ function scheduleEstimate() {
     if (!out) return;
     if (checkAll()) { out.textContent = ""; return; }
     const seq = ++estimateSeq;
-    const r = await api("POST", "/v1/estimate", readCase());
+    const base = readCase();
+    estimateSweep(base, seq);
+    const r = await api("POST", "/v1/estimate", base);
     if (seq !== estimateSeq || !document.getElementById("estimate")) return;
     if (r.ok) {
       showProblem(null);
@@ -193,6 +243,7 @@ export async function renderForm(main, fromJob) {
       el("button", { type: "submit", id: "submit" }, "Run"),
       el("button", { type: "button", class: "secondary", id: "reset", onclick: () => renderForm(document.getElementById("main")) }, "Defaults"),
       el("span", { id: "estimate" })),
+    el("p", { class: "muted", id: "sweep-estimate" }),
     el("p", { class: "form-error", id: "form-error" }));
   main.replaceChildren(el("h1", {}, "New crush case"),
     el("p", { class: "muted" }, "Every field shows its unit and default. The browser checks each value as you type; the server checks the whole case and its cost."),

@@ -1,6 +1,7 @@
-// crush web page: one job — live load curve, summary against the closed-form references, the case, the deformed tube, downloads.
+// crush web page: one job — live load curve, summary against the closed-form references, the case, the deformed tube, downloads; run it again or delete it.
 import { api, el, fmt, isLive, jobName, kN, lineChart, modeName, onLeave, pct, seconds } from "./util.js";
 import { loadFields } from "./form.js";
+import { refreshJobList } from "./list.js";
 
 // ---------- job view ----------
 
@@ -72,8 +73,16 @@ function referenceTable(s, lateral) {
 /// The form's field list, for the defaults of what a case leaves out.
 let fields = [];
 
-/// The case's main numbers, defaults filled in from the form's field list.
-function caseTable(c) {
+/// The shape functions a case names, or what the code chose when it left them out.
+function shapeText(named, summary) {
+  if (named !== null && named !== undefined) return named;
+  const chosen = summary && summary.shape && summary.shape.kind;
+  return chosen ? `${chosen}, chosen by the code` : "chosen by the code";
+}
+
+/// The case's main numbers, defaults filled in from the form's field list; `summary` (once the
+/// job succeeded) says which shape functions the code chose for a case that left them out.
+function caseTable(c, summary) {
   const value = (field) => {
     let v = c;
     for (const p of field.split(".")) v = v === undefined || v === null ? undefined : v[p];
@@ -86,7 +95,7 @@ function caseTable(c) {
     ["Material", `E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, σy ${value("material.yield_stress_mpa")} MPa`],
     ["Loading", `${value("loading.mode")}, ${value("loading.plate_speed_m_s")} m/s, ` +
       (value("loading.crush_distance_mm") === null || value("loading.crush_distance_mm") === undefined ? "default distance" : `${value("loading.crush_distance_mm")} mm`)],
-    ["Particles through the wall", `${value("discretization.particles_through_thickness")} (${value("discretization.shape")})`],
+    ["Particles through the wall", `${value("discretization.particles_through_thickness")} (${shapeText(value("discretization.shape"), summary)})`],
     ["Trigger", `${value("trigger.weak_fraction")} weak`],
   ];
   return el("table", { id: "case-table" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", {}, v)))));
@@ -107,15 +116,33 @@ export async function renderJob(main, id) {
   const chartBox = el("div", { class: "chart", id: "curve" });
   const side = el("div", { id: "job-side" });
   const below = el("div", { id: "job-below" });
+  const note = el("span", { id: "job-action-note", class: "small" });
+  // The same case again, as a new job (its label and every field as submitted).
+  const rerun = el("button", { class: "secondary", id: "rerun", onclick: async () => {
+    const r = await api("POST", "/v1/jobs", job.case);
+    if (r.ok) { location.hash = `#/jobs/${r.data.id}`; refreshJobList(); } else note.textContent = r.data.detail;
+  } }, "Run again");
+  // A finished job outside a sweep can be deleted: the first click asks, the second deletes.
+  const remove = el("button", { class: "secondary danger", id: "delete", onclick: async () => {
+    if (remove.dataset.armed !== "yes") {
+      remove.dataset.armed = "yes";
+      remove.textContent = "Delete for good?";
+      return;
+    }
+    const r = await api("DELETE", `/v1/jobs/${id}`);
+    if (r.ok) { location.hash = "#/"; refreshJobList(); } else note.textContent = r.data.detail;
+  } }, "Delete");
+  const deletable = () => !isLive(job.status) && !job.sweep_id;
   main.replaceChildren(
     el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null,
-      el("a", { href: `#/new/${job.id}`, id: "reuse", class: "small" }, "new case from this one")),
+      job.case ? rerun : null, deletable() ? remove : null,
+      el("a", { href: `#/new/${job.id}`, id: "reuse", class: "small" }, "new case from this one"), note),
     el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}` +
       (job.node ? ` · node ${job.node}` : ""),
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
     el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
     below);
-  side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}));
+  side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}, job.summary));
   const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
   const live = [[], [], []]; // the fixed plate's load comes with the stored history only
   let redraw = null;
@@ -133,6 +160,7 @@ export async function renderJob(main, id) {
     status.className = "badge " + job.status;
     status.textContent = job.status;
     cancel.remove();
+    if (deletable() && !remove.isConnected) rerun.after(remove);
     clearTimeout(redraw);
     ended = true; // the stored history replaces the live curve
     if (job.status === "succeeded") {
@@ -197,7 +225,7 @@ async function showResult(job, set, side, below) {
     referenceTable(s, lateral),
     el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
       lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
-    el("h2", {}, "Case"), caseTable(job.case || {}));
+    el("h2", {}, "Case"), caseTable(job.case || {}, s));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),

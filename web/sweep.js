@@ -1,5 +1,6 @@
 // crush web page: a sweep — its runs' load curves overlaid, its table, and for a resolution sweep the convergence view (error against run time).
-import { align, api, el, fmt, isLive, kN, lineChart, onLeave, pct, seconds, short } from "./util.js";
+import { align, api, columnLabel, el, fmt, isLive, kN, lineChart, onLeave, pct, seconds, short } from "./util.js";
+import { refreshSweepList } from "./list.js";
 
 // ---------- sweep view (and convergence) ----------
 
@@ -35,8 +36,19 @@ export async function renderSweep(main, id) {
   const tableBox = el("div", { id: "sweep-table" });
   const convBox = el("div", { id: "convergence" });
   const countsText = el("span", { class: "muted", id: "sweep-counts" });
+  const note = el("span", { class: "small", id: "sweep-action-note" });
+  // Once every job has finished, the sweep can be deleted with its jobs: first click asks.
+  const remove = el("button", { class: "secondary danger", id: "delete-sweep", hidden: true, onclick: async () => {
+    if (remove.dataset.armed !== "yes") {
+      remove.dataset.armed = "yes";
+      remove.textContent = "Delete the sweep and its jobs for good?";
+      return;
+    }
+    const r = await api("DELETE", `/v1/sweeps/${id}`);
+    if (r.ok) { location.hash = "#/"; refreshSweepList(); } else note.textContent = r.data.detail;
+  } }, "Delete sweep");
   main.replaceChildren(
-    el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText),
+    el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText, remove, note),
     el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id}`),
     el("h2", {}, "Load curves"), curveBox, el("h2", {}, "Runs"), tableBox, convBox);
   const rowName = (row) => fields.map((f) => `${short(f)} = ${row[f]}`).join(", ");
@@ -50,7 +62,7 @@ export async function renderSweep(main, id) {
     const v = r.data;
     countsText.textContent = Object.entries(v.counts).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(" · ");
     tableBox.replaceChildren(el("div", { class: "scroll" }, el("table", {},
-      el("thead", {}, el("tr", {}, v.columns.map((c) => el("th", {}, c.replaceAll("_", " "))))),
+      el("thead", {}, el("tr", {}, v.columns.map((c) => el("th", { title: c }, columnLabel(c))))),
       el("tbody", {}, v.rows.map((row) => el("tr", {}, v.columns.map((c) => cell(c, row[c]))))))));
     const done = v.rows.filter((row) => row.status === "succeeded");
     const key = done.map((row) => row.job_id).join();
@@ -63,7 +75,9 @@ export async function renderSweep(main, id) {
       chart.set(align(curves.map((c) => c || [])));
       if (v.convergence) convChart = renderConvergence(convBox, v.convergence, convChart);
     }
-    if (v.rows.some((row) => isLive(row.status))) timer = setTimeout(update, 2000);
+    const live = v.rows.some((row) => isLive(row.status));
+    remove.hidden = live;
+    if (live) timer = setTimeout(update, 2000);
   };
   onLeave(() => clearTimeout(timer));
   await update();

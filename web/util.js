@@ -102,6 +102,33 @@ export const jobName = (j) => {
 };
 export const isLive = (status) => status === "queued" || status === "running";
 
+// A sweep-table column as a header: its name without the unit suffix, and the unit the cell
+// shows (loads in kN, energies in J, as the cells are written).
+const COLUMN_UNITS = [["_m_s", "m/s"], ["_mpa", "MPa"], ["_mm", "mm"], ["_mj", "J"], ["_n", "kN"], ["_s", ""]];
+export function columnLabel(c) {
+  if (c === "job_id") return "job";
+  if (c === "mean_vs_reference") return "mean / reference − 1";
+  if (c === "particle_steps_per_s") return "particle-steps/s";
+  const unit = COLUMN_UNITS.find(([suffix]) => c.endsWith(suffix));
+  const bare = c.includes(".") ? short(c)
+    : (unit ? c.slice(0, -unit[0].length) : c).replaceAll("_", " ");
+  return unit && unit[1] ? `${bare}, ${unit[1]}` : bare;
+}
+
+// The jobs picked in the list for an overlay, kept for the browser tab's life.
+const PICKED = "crush-picked";
+export function picked() {
+  try { return JSON.parse(sessionStorage.getItem(PICKED) || "[]"); } catch (_) { return []; }
+}
+export function setPicked(ids) { sessionStorage.setItem(PICKED, JSON.stringify(ids)); }
+
+// A file made in the page (CSV, SVG), offered as a download link.
+export function download(text, type, name, label, id) {
+  const url = URL.createObjectURL(new Blob([text], { type }));
+  onLeave(() => URL.revokeObjectURL(url));
+  return el("a", { href: url, download: name, id }, label);
+}
+
 // Things the current view opened (event streams, timers, charts); closed on navigation.
 let viewCleanup = [];
 export function onLeave(f) { viewCleanup.push(f); }
@@ -114,14 +141,26 @@ export function leaveView() {
 
 const PALETTE = ["#1f5fbf", "#d9480f", "#2b8a3e", "#862e9c", "#c92a2a", "#0b7285", "#e67700", "#5c940d", "#364fc7", "#a61e4d"];
 
+export const colour = (i) => PALETTE[i % PALETTE.length];
+
+// The page's own colours (they follow the system's dark mode), for what uPlot draws itself.
+function themed() {
+  const css = getComputedStyle(document.documentElement);
+  const fg = css.getPropertyValue("--fg").trim() || "#1d2430";
+  const grid = css.getPropertyValue("--line").trim() || "#d9dee7";
+  return { stroke: fg, grid: { stroke: grid, width: 1 }, ticks: { stroke: grid, width: 1 } };
+}
+
 export function lineChart(container, { xLabel, yLabel, names, log }) {
-  const width = Math.max(320, container.clientWidth || 600);
+  // As wide as its box (a phone's too), never wider: the page must not scroll sideways.
+  const width = Math.max(200, container.clientWidth || 600);
+  const axis = themed();
   const opts = {
-    width, height: 320,
+    width, height: width < 500 ? 240 : 320,
     scales: { x: { time: false, distr: log ? 3 : 1 }, y: { distr: log ? 3 : 1 } },
-    axes: [{ label: xLabel }, { label: yLabel }],
+    axes: [{ label: xLabel, ...axis }, { label: yLabel, ...axis }],
     series: [{ label: xLabel }].concat(names.map((n, i) => ({
-      label: n, stroke: PALETTE[i % PALETTE.length], width: 2, spanGaps: true,
+      label: n, stroke: colour(i), width: 2, spanGaps: true,
       points: { show: log },
     }))),
     legend: { live: false },

@@ -6,7 +6,7 @@
 use crate::export::{self, FinalState};
 use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::Snapshot;
-use crate::solver::{Case, HistoryRow, Summary};
+use crate::solver::{Case, HistoryRow, RunOutput, Summary};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -60,22 +60,19 @@ pub fn write_state_vtu(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow:
     .with_context(|| format!("writing {}", path.display()))
 }
 
-/// The load on the moving plate against its travel, as SVG: the picture the server's
-/// `plot.svg` gives.
-pub fn write_load_svg(path: &Path, case: &Case, rows: &[HistoryRow]) -> anyhow::Result<()> {
-    let series = [crate::plot::Series {
-        name: "load on the moving plate".into(),
-        points: rows
-            .iter()
-            .map(|r| (r.displacement_mm, r.load_top_n / 1000.0))
-            .collect(),
-    }];
+/// The load on the moving plate against its travel with the mean load, as SVG: the picture
+/// the server's `plot.svg` gives.
+pub fn write_load_svg(path: &Path, case: &Case, out: &RunOutput) -> anyhow::Result<()> {
     let title = case
         .spec()
         .label
         .as_deref()
         .unwrap_or("load against plate travel");
-    let svg = crate::plot::lines_svg((title, "plate travel, mm", "load, kN"), &series, false)?;
+    let points = out
+        .history
+        .iter()
+        .map(|r| (r.displacement_mm, r.load_top_n));
+    let svg = crate::plot::load_curve_svg(title, points, Some(out.summary.mean_load_n))?;
     std::fs::write(path, svg).with_context(|| format!("writing {}", path.display()))
 }
 
@@ -98,6 +95,7 @@ pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow:
     let title = case.spec().label.as_deref().unwrap_or("final shape");
     let png = crate::plot::tube_png(
         case.geometry(),
+        case.crush_distance_mm(),
         title,
         &state.position_mm,
         &state.plastic_strain,

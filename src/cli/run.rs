@@ -93,18 +93,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
     };
 
-    let summary = output.summary;
-    let mode_detail = output.mode_detail;
-    print!("{}", format_report(&case, &summary, &mode_detail));
+    print!(
+        "{}",
+        format_report(&case, &output.summary, &output.mode_detail)
+    );
 
     write_history_csv(&history_path, &output.history)?;
     let load_path = out_dir.join("load.svg");
-    write_load_svg(&load_path, &case, &output.history)?;
+    write_load_svg(&load_path, &case, &output)?;
     let summary_path = out_dir.join("summary.json");
     let file = SummaryFile {
         label: case.spec().label.clone(),
-        summary,
-        mode_detail,
+        summary: output.summary.clone(),
+        mode_detail: output.mode_detail.clone(),
     };
     write_summary_json(&summary_path, &file)?;
     let mut written = vec![history_path, load_path, summary_path];

@@ -3,7 +3,8 @@
 //! (viridis, 0 to the 99th percentile; the far side darkened in the whole-tube views), seen
 //! from three directions: the side, an oblique view from above, and a section through the axis
 //! that shows the wall's fold profile (axial) or the flattened ring (lateral). Orthographic
-//! projection, far particles drawn first. Lengths in mm.
+//! projection, far particles drawn first. The side and section views show the plates where
+//! the crush left them, and every view has a scale bar in mm. Lengths in mm.
 
 use super::font;
 use crate::solver::model::case::{Geometry, LoadingMode, Model};
@@ -27,6 +28,8 @@ struct TubeShape<'a> {
     whole_spacing_mm: f64,
     /// The tube axis is x (lateral loading) rather than z (axial).
     axis_x: bool,
+    /// Where the plates (normal to z) ended, bottom and top, mm; `None`: not drawn.
+    plates_z: Option<[f64; 2]>,
 }
 
 const SIZE: (u32, u32) = (1280, 520);
@@ -48,6 +51,8 @@ struct View {
     right: [f64; 3],
     up: [f64; 3],
     slab: Option<([f64; 3], f64)>,
+    /// Up is z: the plates show edge-on, as bars.
+    plates: bool,
 }
 
 fn views(axis_x: bool) -> [View; 3] {
@@ -62,6 +67,7 @@ fn views(axis_x: bool) -> [View; 3] {
             right: [0.0, -1.0, 0.0],
             up: [0.0, 0.0, 1.0],
             slab: Some(([1.0, 0.0, 0.0], 1.5)),
+            plates: true,
         }
     } else {
         View {
@@ -69,6 +75,7 @@ fn views(axis_x: bool) -> [View; 3] {
             right: [1.0, 0.0, 0.0],
             up: [0.0, 0.0, 1.0],
             slab: Some(([0.0, 1.0, 0.0], 1.5)),
+            plates: true,
         }
     };
     [
@@ -77,12 +84,14 @@ fn views(axis_x: bool) -> [View; 3] {
             right: [1.0, 0.0, 0.0],
             up: [0.0, 0.0, 1.0],
             slab: None,
+            plates: true,
         },
         View {
             name: "oblique, from above",
             right,
             up,
             slab: None,
+            plates: false,
         },
         section,
     ]
@@ -124,9 +133,11 @@ fn strain_percentile(strain: &[f32]) -> f64 {
     *top as f64
 }
 
-/// The picture of a tube of `geometry` in its final state (`title` over it), as PNG bytes.
+/// The picture of a tube of `geometry` in its final state after a crush of `crush_mm` (`title`
+/// over it), as PNG bytes.
 pub fn tube_png(
     geometry: &Geometry,
+    crush_mm: f64,
     title: &str,
     position_mm: &[[f32; 3]],
     plastic_strain: &[f32],
@@ -140,6 +151,7 @@ pub fn tube_png(
     let model = geometry.model;
     let h = geometry.spacing_mm();
     let axis_x = geometry.mode == LoadingMode::Lateral;
+    let plates_z = Some(final_plates(geometry, crush_mm));
     if model == Model::ThreeD {
         return shape_png(&TubeShape {
             title,
@@ -149,6 +161,7 @@ pub fn tube_png(
             section: None,
             whole_spacing_mm: h,
             axis_x,
+            plates_z,
         });
     }
     let (whole, whole_strain, whole_spacing) = whole_tube(geometry, position_mm, plastic_strain);
@@ -173,7 +186,16 @@ pub fn tube_png(
         }),
         whole_spacing_mm: whole_spacing,
         axis_x,
+        plates_z,
     })
+}
+
+/// Where the plates stand once the crush is done, bottom and top, mm: the bottom one where it
+/// started (it does not move), the top one the crush distance lower (the scene's start: axial,
+/// 0 and the length; lateral, ∓ the outer radius).
+fn final_plates(geometry: &Geometry, crush_mm: f64) -> [f64; 2] {
+    let (top, bottom) = geometry.plates_z();
+    [bottom, top - crush_mm]
 }
 
 /// Most points a reduced model's picture draws of the whole tube.
@@ -295,6 +317,7 @@ fn draw(root: &Area, shape: &TubeShape) -> DrawResult {
             plastic_strain: strain,
             spacing_mm: spacing,
             slab,
+            plates_z: shape.plates_z.filter(|_| view.plates),
         };
         draw_view(&area, &shown, view, top, text)?;
     }
@@ -310,7 +333,15 @@ struct Shown<'a> {
     plastic_strain: &'a [f32],
     spacing_mm: f64,
     slab: Option<([f64; 3], f64)>,
+    /// The plates' z, bottom and top, when this view shows them.
+    plates_z: Option<[f64; 2]>,
 }
+
+/// Pixels of a plate's bar, across.
+const PLATE_PX: i32 = 6;
+
+/// A blue-grey that neither the strain scale nor anti-aliased text produces.
+const PLATE_COLOUR: RGBColor = RGBColor(112, 118, 128);
 
 fn draw_view(area: &Area, shape: &Shown, view: &View, top: f64, text: bool) -> DrawResult {
     let (pw, ph) = area.dim_in_pixel();
@@ -352,7 +383,11 @@ fn draw_view(area: &Area, shape: &Shown, view: &View, top: f64, text: bool) -> D
         y0 = y0.min(p.1);
         y1 = y1.max(p.1);
     }
-    let margin = 16.0;
+    if let Some([bottom, top]) = shape.plates_z {
+        y0 = y0.min(bottom);
+        y1 = y1.max(top);
+    }
+    let margin = 16.0 + PLATE_PX as f64;
     let (room_w, room_h) = (
         pw as f64 - 2.0 * margin,
         ph as f64 - LABEL_PX as f64 - 2.0 * margin,
@@ -378,6 +413,63 @@ fn draw_view(area: &Area, shape: &Shown, view: &View, top: f64, text: bool) -> D
         let a = ((px - half).round() as i32, (py - half).round() as i32);
         let b = ((px + half).round() as i32, (py + half).round() as i32);
         area.draw(&Rectangle::new([a, b], colour.filled()))?;
+    }
+    if let Some([bottom, top]) = shape.plates_z {
+        let grey = PLATE_COLOUR.filled();
+        let reach = 0.5 * (x1 - x0) + spacing;
+        let (left, right) = (
+            (ox - reach * scale).round() as i32,
+            (ox + reach * scale).round() as i32,
+        );
+        let screen = |z: f64| (oy - (z - cy) * scale).round() as i32;
+        let (yb, yt) = (screen(bottom), screen(top));
+        area.draw(&Rectangle::new([(left, yb), (right, yb + PLATE_PX)], grey))?;
+        area.draw(&Rectangle::new([(left, yt - PLATE_PX), (right, yt)], grey))?;
+    }
+    scale_bar(area, scale, text)
+}
+
+/// A "nice" length (1, 2 or 5 × 10^k mm) near `target` mm.
+fn nice_length(target: f64) -> f64 {
+    let decade = 10f64.powf(target.log10().floor());
+    let m = target / decade;
+    let nice = if m < 1.5 {
+        1.0
+    } else if m < 3.5 {
+        2.0
+    } else if m < 7.5 {
+        5.0
+    } else {
+        10.0
+    };
+    nice * decade
+}
+
+/// A bar of a round number of millimetres at the view's lower right, `scale` px a mm.
+fn scale_bar(area: &Area, scale: f64, text: bool) -> DrawResult {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Ok(());
+    }
+    let (pw, ph) = area.dim_in_pixel();
+    let mm = nice_length(0.2 * pw as f64 / scale);
+    let len = (mm * scale).round() as i32;
+    let (x1, y) = (pw as i32 - 14, ph as i32 - LABEL_PX + 14);
+    let x0 = x1 - len;
+    let ink = BLACK.filled();
+    area.draw(&Rectangle::new([(x0, y), (x1, y + 3)], ink))?;
+    for x in [x0, x1 - 2] {
+        area.draw(&Rectangle::new([(x, y - 5), (x + 2, y + 3)], ink))?;
+    }
+    if text {
+        let label = if mm >= 1.0 {
+            format!("{mm:.0} mm")
+        } else {
+            format!("{mm} mm")
+        };
+        let style = TextStyle::from(("sans-serif", 14).into_font());
+        let (w, _) = area.estimate_text_size(&label, &style)?;
+        let at = (x0 + (len - w as i32) / 2, y - 20);
+        area.draw(&Text::new(label, at, style))?;
     }
     Ok(())
 }
@@ -457,6 +549,7 @@ mod tests {
             section: None,
             whole_spacing_mm: 1.0,
             axis_x: false,
+            plates_z: None,
         })
         .unwrap();
         let img = image::load_from_memory(&png).unwrap().to_rgb8();
@@ -467,6 +560,64 @@ mod tests {
         // Both ends of the scale are drawn, and the band (4 of 40 layers) is a minority.
         let (h, c) = (count(hot), count(cold));
         assert!(h > 500 && c > 5 * h, "hot {h} px, cold {c} px");
+    }
+
+    #[test]
+    fn the_scale_bar_is_a_round_number_of_millimetres() {
+        for (target, nice) in [
+            (0.7, 0.5),
+            (1.2, 1.0),
+            (3.0, 2.0),
+            (4.0, 5.0),
+            (8.0, 10.0),
+            (23.0, 20.0),
+        ] {
+            assert!(
+                (nice_length(target) - nice).abs() < 1e-12,
+                "{target} → {nice}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_plates_end_a_crush_distance_apart_from_where_they_started() {
+        use crate::solver::{Case, Limits};
+        let axial = Case::from_json(
+            r#"{"tube": {"length_mm": 50}, "loading": {"crush_distance_mm": 10}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(final_plates(axial.geometry(), 10.0), [0.0, 40.0]);
+        let lateral = Case::from_json(
+            r#"{"tube": {"thickness_mm": 2, "mean_diameter_mm": 20},
+                "loading": {"mode": "lateral", "crush_distance_mm": 5}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(final_plates(lateral.geometry(), 5.0), [-11.0, 6.0]);
+    }
+
+    #[test]
+    fn the_side_view_draws_the_plates_in_grey() {
+        let (x, e) = tube();
+        let grey = |plates_z| {
+            let png = shape_png(&TubeShape {
+                title: "",
+                position_mm: &x,
+                plastic_strain: &e,
+                spacing_mm: 1.0,
+                section: None,
+                whole_spacing_mm: 1.0,
+                axis_x: false,
+                plates_z,
+            })
+            .unwrap();
+            let img = image::load_from_memory(&png).unwrap().to_rgb8();
+            let c = PLATE_COLOUR;
+            img.pixels().filter(|p| p.0 == [c.0, c.1, c.2]).count()
+        };
+        assert_eq!(grey(None), 0);
+        assert!(grey(Some([-0.5, 39.5])) > 1000);
     }
 
     #[test]
@@ -511,7 +662,7 @@ mod tests {
                     assert_eq!((p[1], p[2]), (q[1], q[2]));
                 }
             }
-            let png = tube_png(case.geometry(), "t", &x, &e).unwrap();
+            let png = tube_png(case.geometry(), case.crush_distance_mm(), "t", &x, &e).unwrap();
             assert!(image::load_from_memory(&png).is_ok());
         }
     }
@@ -527,6 +678,7 @@ mod tests {
             section: None,
             whole_spacing_mm: 1.0,
             axis_x: false,
+            plates_z: None,
         })
         .is_err());
     }

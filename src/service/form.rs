@@ -270,7 +270,7 @@ mod tests {
     }
 
     /// `api/openapi.yaml`'s schema of the field at a dotted path.
-    fn contract_schema(doc: &serde_yaml::Value, field: &str) -> serde_yaml::Value {
+    fn contract_schema(doc: &serde_yaml_ng::Value, field: &str) -> serde_yaml_ng::Value {
         let mut at = &doc["components"]["schemas"]["Case"];
         for part in field.split('.') {
             at = &at["properties"][part];
@@ -283,9 +283,9 @@ mod tests {
         // One source for both: the schema's bounds, types, choices and defaults are the ones
         // this table serves (and the test above holds to the server).
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
-        let doc: serde_yaml::Value =
-            serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let num = |v: &serde_yaml::Value| v.as_f64();
+        let doc: serde_yaml_ng::Value =
+            serde_yaml_ng::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let num = |v: &serde_yaml_ng::Value| v.as_f64();
         for f in fields() {
             let s = contract_schema(&doc, f.field);
             let name = f.field;
@@ -297,7 +297,7 @@ mod tests {
                 Kind::Boolean => "boolean",
             };
             let types: Vec<&str> = match &s["type"] {
-                serde_yaml::Value::Sequence(t) => t.iter().filter_map(|t| t.as_str()).collect(),
+                serde_yaml_ng::Value::Sequence(t) => t.iter().filter_map(|t| t.as_str()).collect(),
                 t => t.as_str().into_iter().collect(),
             };
             assert_eq!(types[0], kind, "{name}: type");
@@ -323,7 +323,7 @@ mod tests {
                 .as_sequence()
                 .map_or(vec![], |e| e.iter().filter_map(|c| c.as_str()).collect());
             assert_eq!(choices, f.choices, "{name}: enum");
-            let default: Value = serde_yaml::from_value(s["default"].clone()).unwrap();
+            let default: Value = serde_yaml_ng::from_value(s["default"].clone()).unwrap();
             let same = match (default.as_f64(), f.default.as_f64()) {
                 (Some(a), Some(b)) => a == b,
                 _ => default == f.default,

@@ -10,6 +10,8 @@ mod error;
 mod form;
 pub mod guard;
 pub mod hub;
+mod metrics;
+mod retention;
 mod routes;
 pub mod store;
 pub mod sweep;
@@ -94,6 +96,10 @@ pub struct ServeArgs {
     /// Largest checkpoint stored, MB (about 116 bytes a particle): a larger job stores none.
     #[arg(long, env = "CRUSH_CHECKPOINT_MAX_MB", default_value_t = 256)]
     pub checkpoint_max_mb: u64,
+    /// Delete finished jobs, and sweeps whose jobs have all finished, this many days after they
+    /// finished (fractions allowed; 0: keep everything).
+    #[arg(long, env = "CRUSH_KEEP_DAYS", default_value_t = 0.0)]
+    pub keep_days: f64,
     #[command(flatten)]
     pub access: AccessArgs,
     #[command(flatten)]
@@ -122,7 +128,7 @@ impl ServeArgs {
             v.is_finite() && v > 0.0,
             "{name} must be a positive number of seconds"
         );
-        Ok(Duration::from_secs_f64(v))
+        Duration::try_from_secs_f64(v).map_err(|_| anyhow::anyhow!("{name} is too large"))
     }
 }
 
@@ -179,6 +185,15 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         "--stale-after-s must be at least two heartbeats (--heartbeat-ms)"
     );
     anyhow::ensure!(args.max_attempts >= 1, "--max-attempts must be at least 1");
+    anyhow::ensure!(
+        args.keep_days.is_finite() && args.keep_days >= 0.0,
+        "--keep-days must be 0 (keep everything) or a positive number of days"
+    );
+    let keep = if args.keep_days == 0.0 {
+        None
+    } else {
+        Some(args.seconds("--keep-days", args.keep_days * 86_400.0)?)
+    };
     let timeouts = args.timeouts.timeouts()?;
     let guard = Arc::new(guard::Guard::new(&args.access)?);
     anyhow::ensure!(
@@ -253,6 +268,9 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
     };
     let mut handles = workers.spawn();
     handles.extend(cluster::start(&store, &hub, &workers, shutdown_rx.clone()));
+    if let Some(keep) = keep {
+        handles.push(retention::spawn(store.clone(), keep, shutdown_rx.clone()));
+    }
     let router = app(state);
     let drain = workers.clone();
     let down = shutdown_rx;

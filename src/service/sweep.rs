@@ -447,8 +447,8 @@ mod tests {
     #[test]
     fn the_contract_names_exactly_the_fields_a_sweep_may_vary() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
-        let doc: serde_yaml::Value =
-            serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let doc: serde_yaml_ng::Value =
+            serde_yaml_ng::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         let names = &doc["components"]["schemas"]["SweepRequest"]["properties"]["parameters"]
             ["propertyNames"]["enum"];
         let mut contract: Vec<String> = names

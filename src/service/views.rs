@@ -3,7 +3,7 @@
 
 mod sweep;
 
-pub use sweep::SweepView;
+pub use sweep::{SweepListItem, SweepView};
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status};
@@ -212,7 +212,7 @@ mod tests {
         // summary has is documented (a new one too). `references` is documented as an object
         // only (its loads depend on the loading mode), `mode.lobes` only for diamonds.
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
-        let doc: Value = serde_yaml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let doc: Value = serde_yaml_ng::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         let schema = &doc["components"]["schemas"]["Summary"]["properties"];
         let mut documented = std::collections::BTreeSet::new();
         for (k, inner) in schema.as_object().unwrap() {

@@ -55,12 +55,9 @@ pub struct Workers {
     shutdown: watch::Receiver<bool>,
     /// Particle-steps of the runs this process finished.
     pub particle_steps_total: AtomicU64,
-    /// How long the latest claims that got a job took, s (the last [`CLAIM_SAMPLES`]).
-    claim_times: Mutex<std::collections::VecDeque<f64>>,
+    /// How long the claims that got a job took, s.
+    pub claim_seconds: prometheus_client::metrics::histogram::Histogram,
 }
-
-/// Claims kept for the claim-latency quantiles of `/metrics`.
-pub const CLAIM_SAMPLES: usize = 1024;
 
 impl Workers {
     pub fn new(
@@ -77,7 +74,7 @@ impl Workers {
             wake: Notify::new(),
             shutdown,
             particle_steps_total: AtomicU64::new(0),
-            claim_times: Mutex::new(std::collections::VecDeque::with_capacity(CLAIM_SAMPLES)),
+            claim_seconds: super::metrics::claim_histogram(),
         })
     }
 
@@ -145,33 +142,6 @@ impl Workers {
         });
     }
 
-    fn record_claim(&self, seconds: f64) {
-        let mut times = self.claim_times.lock().unwrap_or_else(|e| e.into_inner());
-        if times.len() == CLAIM_SAMPLES {
-            times.pop_front();
-        }
-        times.push_back(seconds);
-    }
-
-    /// Quantiles `qs` of the recent claims' durations, s, and how many claims they cover;
-    /// `None` before the first claim.
-    pub fn claim_quantiles(&self, qs: &[f64]) -> Option<(Vec<f64>, usize)> {
-        let mut times: Vec<f64> = self
-            .claim_times
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .iter()
-            .copied()
-            .collect();
-        if times.is_empty() {
-            return None;
-        }
-        times.sort_by(f64::total_cmp);
-        let at =
-            |q: f64| times[((q * (times.len() - 1) as f64).round() as usize).min(times.len() - 1)];
-        Some((qs.iter().map(|&q| at(q)).collect(), times.len()))
-    }
-
     /// This node's name.
     pub fn node(&self) -> &str {
         &self.config.node
@@ -223,7 +193,7 @@ impl Workers {
             failures = if claimed.is_err() { failures + 1 } else { 0 };
             match claimed {
                 Ok(Some(job)) => {
-                    self.record_claim(asked.elapsed().as_secs_f64());
+                    self.claim_seconds.observe(asked.elapsed().as_secs_f64());
                     self.run(job).await
                 }
                 Ok(None) => {

@@ -506,7 +506,7 @@ async fn every_answer_carries_the_security_headers() {
 #[test]
 fn compose_publishes_on_loopback_only_and_gives_every_node_the_token_file() {
     let text = std::fs::read_to_string(repo_file("compose.yaml")).unwrap();
-    let mut doc: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    let mut doc: serde_yaml_ng::Value = serde_yaml_ng::from_str(&text).unwrap();
     doc.apply_merge().unwrap();
     let secret = doc["secrets"]["crush-tokens"]["file"].as_str();
     assert_eq!(secret, Some("./crush-tokens"));

@@ -6,6 +6,8 @@
 //! Every server runs on SQLite, or on PostgreSQL with `CRUSH_TEST_BACKEND=postgres` (see
 //! `common`); `.ci/run` runs the suite both ways.
 
+#[path = "../common/browser.rs"]
+mod browser_kit;
 #[path = "../common/mod.rs"]
 mod common;
 
@@ -16,8 +18,10 @@ mod errors;
 mod events;
 mod guard;
 mod jobs;
+mod manage;
 mod requests;
 mod restart;
 mod results;
 mod store;
 mod timeouts;
+mod views;

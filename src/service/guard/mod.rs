@@ -80,8 +80,8 @@ pub struct Caller {
 }
 
 impl Caller {
-    /// Whether this caller may cancel a job submitted by `owner`: an admin any, a submitter
-    /// its own.
+    /// Whether this caller may cancel or delete a job or sweep submitted by `owner`: an admin
+    /// any, a submitter its own.
     pub fn may_cancel(&self, owner: Option<&str>) -> bool {
         self.role >= Role::Admin || (self.role >= Role::Submit && owner == self.name.as_deref())
     }

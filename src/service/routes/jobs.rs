@@ -1,9 +1,10 @@
-//! `/v1/jobs`: submit, list, read and cancel (what a succeeded job leaves is in `results`).
+//! `/v1/jobs`: submit, list, read, cancel and delete (what a succeeded job leaves is in
+//! `results`).
 
-use super::{body_error, json_text, parse_id, AppState, HttpLimits};
+use super::{body_error, json_text, page_limit, parse_id, search_text, AppState, HttpLimits};
 use crate::service::error::ApiError;
 use crate::service::guard::Caller;
-use crate::service::store::{CancelOutcome, ListFilter, NewJob, Status, Submitted};
+use crate::service::store::{CancelOutcome, Deleted, ListFilter, NewJob, Status, Submitted};
 use crate::service::views::JobView;
 use crate::solver::model::case::{object_from_json, spec_from_value};
 use crate::solver::model::input::clip;
@@ -21,8 +22,6 @@ use serde_json::Value;
 use uuid::Uuid;
 
 const MAX_KEY_CHARS: usize = 200;
-const DEFAULT_PAGE: u32 = 50;
-const MAX_PAGE: u32 = 500;
 
 /// Case JSON text (one object, every key once) → a job ready to insert, or every reason it is
 /// not a case.
@@ -114,6 +113,7 @@ pub async fn submit(
 pub struct ListParams {
     status: Option<String>,
     label: Option<String>,
+    search: Option<String>,
     limit: Option<String>,
     cursor: Option<String>,
 }
@@ -137,19 +137,8 @@ pub async fn list(
         })?;
         statuses.push(status);
     }
-    let limit = match p.limit.as_deref() {
-        None => DEFAULT_PAGE,
-        Some(l) => l
-            .parse::<u32>()
-            .ok()
-            .filter(|l| (1..=MAX_PAGE).contains(l))
-            .ok_or_else(|| {
-                ApiError::bad_request(
-                    format!("limit must be an integer in [1, {MAX_PAGE}]"),
-                    Some("limit"),
-                )
-            })?,
-    };
+    let limit = page_limit(p.limit.as_deref())?;
+    let search = search_text(p.search)?;
     let before = match p.cursor.as_deref() {
         None | Some("") => None,
         Some(c) => Some(decode_cursor(c).ok_or_else(|| {
@@ -159,6 +148,7 @@ pub async fn list(
     let filter = ListFilter {
         statuses,
         label: p.label,
+        search,
         before,
         limit: limit + 1,
     };
@@ -170,7 +160,16 @@ pub async fn list(
         None
     };
     let jobs: Vec<JobView> = records.iter().map(|r| JobView::new(r, false)).collect();
-    Ok(Json(serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor })).into_response())
+    let stored = s.store.counts().await?;
+    let counts: serde_json::Map<String, Value> = Status::ALL
+        .iter()
+        .map(|st| {
+            let n = stored.iter().find(|(x, _)| x == st).map_or(0, |(_, n)| *n);
+            (st.as_str().to_string(), n.into())
+        })
+        .collect();
+    let page = serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor, "counts": counts });
+    Ok(Json(page).into_response())
 }
 
 /// The list cursor clients get: where the page ended, tagged and base64url-encoded so that it
@@ -251,6 +250,52 @@ pub async fn cancel(
             };
             Ok((StatusCode::ACCEPTED, Json(body)).into_response())
         }
+    }
+}
+
+/// Deletes a finished job that belongs to no sweep: its row, summary, history and final state.
+/// Who may cancel a job may delete it.
+pub async fn delete(
+    State(s): State<AppState>,
+    Extension(caller): Extension<Caller>,
+    Path(id): Path<String>,
+) -> Result<Response, ApiError> {
+    let uuid = parse_id(&id, "job")?;
+    if caller.role < crate::service::guard::Role::Admin {
+        let record = s
+            .store
+            .job(uuid)
+            .await?
+            .ok_or_else(|| ApiError::job_not_found(&id))?;
+        if !caller.may_cancel(record.owner.as_deref()) {
+            return Err(ApiError::Forbidden {
+                detail: format!(
+                    "job {id} was submitted by {}; the token {} may delete only its own jobs \
+                     (an admin token may delete any)",
+                    record
+                        .owner
+                        .as_deref()
+                        .unwrap_or("a client without a token"),
+                    caller.name.as_deref().unwrap_or("?")
+                ),
+            });
+        }
+    }
+    match s.store.delete_job(uuid).await? {
+        Deleted::NotFound => Err(ApiError::job_not_found(&id)),
+        Deleted::Unfinished(status, _) => Err(ApiError::Conflict {
+            detail: format!(
+                "job {id} is {}; only a finished job can be deleted (cancel it first)",
+                status.as_str()
+            ),
+        }),
+        Deleted::InSweep(sweep) => Err(ApiError::Conflict {
+            detail: format!(
+                "job {id} belongs to sweep {sweep}; it is deleted with its sweep \
+                 (DELETE /v1/sweeps/{sweep})"
+            ),
+        }),
+        Deleted::Done { .. } => Ok(StatusCode::NO_CONTENT.into_response()),
     }
 }
 

@@ -2,6 +2,7 @@
 
 use super::{json_text, AppState};
 use crate::service::error::{ApiError, STORE_RETRY_AFTER_S};
+use crate::service::metrics;
 use crate::service::store::{Status, StoreError};
 use crate::solver::{estimate as solver_estimate, model::case::spec_from_json, Case, Estimate};
 use axum::body::Bytes;
@@ -10,7 +11,6 @@ use axum::extract::State;
 use axum::http::{header, HeaderMap};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use std::fmt::Write;
 use std::sync::atomic::Ordering;
 
 /// 200 while the database can be written (a one-row write commits in time and the file is the
@@ -32,83 +32,29 @@ pub async fn healthz(State(s): State<AppState>) -> Result<Response, ApiError> {
 
 pub async fn metrics(State(s): State<AppState>) -> Result<Response, ApiError> {
     let counts = s.store.counts().await?;
-    let (running_here, rate) = s.workers.load();
-    let sse_open = s.limits_sse_open();
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "# HELP crush_jobs Jobs in the store, by status.\n# TYPE crush_jobs gauge"
-    );
-    for status in Status::ALL {
-        let n = counts
+    let of = |status| {
+        counts
             .iter()
             .find(|(st, _)| *st == status)
-            .map_or(0, |(_, n)| *n);
-        let _ = writeln!(out, "crush_jobs{{status=\"{}\"}} {n}", status.as_str());
-    }
-    let queued = counts
-        .iter()
-        .find(|(st, _)| *st == Status::Queued)
-        .map_or(0, |(_, n)| *n);
-    let gauges = [
-        ("crush_queue_depth", "Jobs waiting to run.", queued as f64),
-        (
-            "crush_running_jobs",
-            "Jobs running in this process.",
-            running_here as f64,
-        ),
-        (
-            "crush_particle_steps_per_second",
-            "Current solver throughput of this process.",
-            rate,
-        ),
-        ("crush_sse_clients", "Open event streams.", sse_open as f64),
-    ];
-    for (name, help, value) in gauges {
-        let _ = writeln!(
-            out,
-            "# HELP {name} {help}\n# TYPE {name} gauge\n{name} {value}"
-        );
-    }
-    // Prometheus' label-value escapes: backslash, quote, newline.
-    let node = s
-        .workers
-        .node()
-        .replace('\\', "\\\\")
-        .replace('"', "\\\"")
-        .replace('\n', "\\n");
-    let _ = writeln!(
-        out,
-        "# HELP crush_node This process: its node name and its store's backend.\n\
-         # TYPE crush_node gauge\ncrush_node{{node=\"{node}\",backend=\"{}\"}} 1",
-        s.store.backend_name()
-    );
-    if let Some((values, n)) = s.workers.claim_quantiles(&[0.5, 0.99]) {
-        let _ = writeln!(
-            out,
-            "# HELP crush_claim_seconds Time to claim a job, over this node's last {n} claims \
-             that got one (at most {}).\n# TYPE crush_claim_seconds gauge\n\
-             crush_claim_seconds{{quantile=\"0.5\"}} {}\n\
-             crush_claim_seconds{{quantile=\"0.99\"}} {}",
-            crate::service::worker::CLAIM_SAMPLES,
-            values[0],
-            values[1]
-        );
-    }
-    let total = s.workers.particle_steps_total.load(Ordering::Relaxed);
-    let _ = writeln!(
-        out,
-        "# HELP crush_particle_steps_total Particle-steps of the runs this process finished.\n\
-         # TYPE crush_particle_steps_total counter\ncrush_particle_steps_total {total}"
-    );
-    Ok((
-        [(
-            header::CONTENT_TYPE,
-            "text/plain; version=0.0.4; charset=utf-8",
-        )],
-        out,
-    )
-        .into_response())
+            .map_or(0, |(_, n)| *n)
+    };
+    let (running_here, rate) = s.workers.load();
+    let text = metrics::encode(&metrics::Snapshot {
+        jobs: Status::ALL
+            .iter()
+            .map(|st| (st.as_str(), of(*st)))
+            .collect(),
+        queued: of(Status::Queued),
+        running_here: running_here as i64,
+        particle_steps_per_s: rate,
+        sse_clients: s.limits_sse_open() as i64,
+        particle_steps_total: s.workers.particle_steps_total.load(Ordering::Relaxed),
+        node: s.workers.node(),
+        backend: s.store.backend_name(),
+        claim_seconds: &s.workers.claim_seconds,
+    })
+    .map_err(ApiError::internal)?;
+    Ok(([(header::CONTENT_TYPE, metrics::CONTENT_TYPE)], text).into_response())
 }
 
 impl AppState {

@@ -24,7 +24,7 @@ use axum::extract::rejection::BytesRejection;
 use axum::extract::{DefaultBodyLimit, Request};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
-use axum::routing::{get, post, MethodRouter};
+use axum::routing::{delete, get, post, MethodRouter};
 use axum::{middleware, Router};
 use std::sync::Arc;
 use std::time::Duration;
@@ -81,6 +81,7 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("POST", "/v1/jobs", post(jobs::submit)),
         ("GET", "/v1/jobs", get(jobs::list)),
         ("GET", "/v1/jobs/{id}", get(jobs::get)),
+        ("DELETE", "/v1/jobs/{id}", delete(jobs::delete)),
         ("POST", "/v1/jobs/{id}/cancel", post(jobs::cancel)),
         ("GET", "/v1/jobs/{id}/history", get(results::history)),
         ("GET", "/v1/jobs/{id}/summary", get(results::summary)),
@@ -94,14 +95,12 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ),
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
+        ("GET", "/v1/sweeps", get(sweeps::list)),
         ("GET", "/v1/sweeps/{id}", get(sweeps::get)),
+        ("DELETE", "/v1/sweeps/{id}", delete(sweeps::delete)),
         ("GET", "/v1/session", get(session::show)),
         ("POST", "/v1/session", post(session::sign_in)),
-        (
-            "DELETE",
-            "/v1/session",
-            axum::routing::delete(session::sign_out),
-        ),
+        ("DELETE", "/v1/session", delete(session::sign_out)),
     ]
 }
 
@@ -201,6 +200,43 @@ pub(crate) fn body_error(e: BytesRejection, limit: usize) -> ApiError {
         ApiError::TooLarge { limit }
     } else {
         ApiError::bad_request(format!("could not read the body: {e}"), None)
+    }
+}
+
+/// Jobs or sweeps a list page holds unless `?limit=` says otherwise, and at most.
+const DEFAULT_PAGE: u32 = 50;
+const MAX_PAGE: u32 = 500;
+
+/// Longest `?search=` text, characters.
+pub(crate) const MAX_SEARCH_CHARS: usize = 100;
+
+/// `?limit=` of a list: an integer in [1, 500], 50 when absent.
+pub(crate) fn page_limit(raw: Option<&str>) -> Result<u32, ApiError> {
+    match raw {
+        None => Ok(DEFAULT_PAGE),
+        Some(l) => l
+            .parse::<u32>()
+            .ok()
+            .filter(|l| (1..=MAX_PAGE).contains(l))
+            .ok_or_else(|| {
+                ApiError::bad_request(
+                    format!("limit must be an integer in [1, {MAX_PAGE}]"),
+                    Some("limit"),
+                )
+            }),
+    }
+}
+
+/// `?search=` of a list: text a label must contain, 1 to [`MAX_SEARCH_CHARS`] characters
+/// (empty: no filter).
+pub(crate) fn search_text(raw: Option<String>) -> Result<Option<String>, ApiError> {
+    match raw {
+        Some(t) if t.chars().count() > MAX_SEARCH_CHARS => Err(ApiError::bad_request(
+            format!("search must be at most {MAX_SEARCH_CHARS} characters"),
+            Some("search"),
+        )),
+        Some(t) if !t.is_empty() => Ok(Some(t)),
+        _ => Ok(None),
     }
 }
 

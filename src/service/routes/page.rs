@@ -19,6 +19,7 @@ const ASSETS: &[(&str, &str, &str)] = &[
     ("form.js", JS, include_str!("../../../web/form.js")),
     ("job.js", JS, include_str!("../../../web/job.js")),
     ("sweep.js", JS, include_str!("../../../web/sweep.js")),
+    ("compare.js", JS, include_str!("../../../web/compare.js")),
     (
         "app.css",
         "text/css; charset=utf-8",

@@ -4,7 +4,7 @@
 
 use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
 use crate::export::{self, FinalState};
-use crate::plot::{self, Series};
+use crate::plot;
 use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::store::{JobRecord, Status};
@@ -34,14 +34,19 @@ async fn succeeded(s: &AppState, id: &str, why: &str) -> Result<JobRecord, ApiEr
     Ok(record)
 }
 
+/// What a succeeded job kept of its tube: enough to draw it and export it.
+struct Kept {
+    record: JobRecord,
+    geometry: Geometry,
+    /// The crush distance, mm.
+    crush_mm: f64,
+    state: FinalState,
+}
+
 /// A succeeded job, the geometry of its tube and its final particle state; 404 when the case
 /// kept none. The stored case was checked when it was submitted: only its text is read here,
 /// so a case that later checks refuse still has its pictures.
-async fn final_state(
-    s: &AppState,
-    id: &str,
-    what: &str,
-) -> Result<(JobRecord, Geometry, FinalState), ApiError> {
+async fn final_state(s: &AppState, id: &str, what: &str) -> Result<Kept, ApiError> {
     let why = format!("its {what} is made from the final state stored when it succeeds");
     let record = succeeded(s, id, &why).await?;
     let corrupt = |m: String| ApiError::internal(std::io::Error::other(m));
@@ -60,7 +65,12 @@ async fn final_state(
     };
     let state = export::vtu::decode(particles, &bytes)
         .ok_or_else(|| corrupt(format!("stored final state of job {id} has a wrong length")))?;
-    Ok((record, geometry, state))
+    Ok(Kept {
+        crush_mm: spec.loading.crush_distance_or_default(),
+        record,
+        geometry,
+        state,
+    })
 }
 
 fn title(record: &JobRecord) -> String {
@@ -99,14 +109,9 @@ pub async fn plot_svg(
         )));
     };
     let title = title(&record);
-    let svg = render(move || {
-        let series = [Series {
-            name: "load on the moving plate".into(),
-            points: rows.iter().map(|r| (r[u], r[p] / 1000.0)).collect(),
-        }];
-        plot::lines_svg((&title, "plate travel, mm", "load, kN"), &series, false)
-    })
-    .await?;
+    let mean = record.summary.as_ref().map(|s| s.mean_load_n);
+    let svg = render(move || plot::load_curve_svg(&title, rows.iter().map(|r| (r[u], r[p])), mean))
+        .await?;
     Ok(file_response("image/svg+xml", None, Some(CACHE), svg))
 }
 
@@ -116,10 +121,11 @@ pub async fn shape_png(
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
     let _permit = heavy_permit(&s).await?;
-    let (record, geometry, state) = final_state(&s, &id, "picture").await?;
-    let title = format!("{} — final shape", title(&record));
+    let kept = final_state(&s, &id, "picture").await?;
+    let title = format!("{} — final shape", title(&kept.record));
     let png = render(move || {
-        plot::tube_png(&geometry, &title, &state.position_mm, &state.plastic_strain)
+        let (position, strain) = (&kept.state.position_mm, &kept.state.plastic_strain);
+        plot::tube_png(&kept.geometry, kept.crush_mm, &title, position, strain)
     })
     .await?;
     Ok(file_response("image/png", None, Some(CACHE), png))
@@ -135,7 +141,9 @@ pub async fn state_vtu(
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
     let permit = heavy_permit(&s).await?;
-    let (_, geometry, state) = final_state(&s, &id, "VTU file").await?;
+    let Kept {
+        geometry, state, ..
+    } = final_state(&s, &id, "VTU file").await?;
     let body = streamed(permit, "a VTU file", move |sink| {
         let note = geometry.symmetry_note();
         export::vtu::write_vtu(sink, &geometry.positions(), &state, note)
@@ -159,7 +167,9 @@ pub async fn particles_csv(
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
     let permit = heavy_permit(&s).await?;
-    let (_, geometry, state) = final_state(&s, &id, "particle table").await?;
+    let Kept {
+        geometry, state, ..
+    } = final_state(&s, &id, "particle table").await?;
     let body = streamed(permit, "a particle table", move |sink| {
         let start = geometry.positions();
         let rows = start

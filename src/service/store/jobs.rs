@@ -36,6 +36,8 @@ pub enum Submitted {
 pub struct ListFilter {
     pub statuses: Vec<Status>,
     pub label: Option<String>,
+    /// Jobs whose label contains this text, ignoring the case of ASCII letters.
+    pub search: Option<String>,
     pub before: Option<i64>,
     pub limit: u32,
 }
@@ -124,6 +126,9 @@ impl Store {
         if filter.label.is_some() {
             sql += &format!(" AND j.label = {}", next());
         }
+        if filter.search.is_some() {
+            sql += &format!(" AND {}", contains("j.label", &next()));
+        }
         if filter.before.is_some() {
             sql += &format!(" AND j.seq < {}", next());
         }
@@ -134,6 +139,9 @@ impl Store {
         }
         if let Some(label) = &filter.label {
             q = q.bind(label.clone());
+        }
+        if let Some(text) = &filter.search {
+            q = q.bind(like_pattern(text));
         }
         if let Some(before) = filter.before {
             q = q.bind(before);
@@ -221,6 +229,26 @@ impl Store {
                 .await?;
         Ok(row.map(|(n, data)| (n.max(0) as usize, data)))
     }
+}
+
+/// The SQL condition "`column` contains the text bound at `param`", ignoring the case of ASCII
+/// letters on both backends (each lowers both sides its own way); bind [`like_pattern`].
+pub(super) fn contains(column: &str, param: &str) -> String {
+    format!("LOWER({column}) LIKE LOWER({param}) ESCAPE '\\'")
+}
+
+/// `%text%` with LIKE's wildcards in `text` escaped, so that they match themselves.
+pub(super) fn like_pattern(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('%');
+    for c in text.chars() {
+        if matches!(c, '%' | '_' | '\\') {
+            out.push('\\');
+        }
+        out.push(c);
+    }
+    out.push('%');
+    out
 }
 
 /// Jobs waiting to run.

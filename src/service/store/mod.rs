@@ -9,14 +9,16 @@ mod backend;
 mod checkpoints;
 mod file;
 mod jobs;
+mod removal;
 pub mod signals;
 mod sweeps;
 mod worker;
 
 pub use checkpoints::StoredCheckpoint;
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
+pub use removal::{Deleted, Pruned};
 pub use signals::Signal;
-pub use sweeps::{NewSweep, SweepRecord, SweepSubmitted};
+pub use sweeps::{NewSweep, SweepFilter, SweepListed, SweepRecord, SweepSubmitted};
 pub use worker::{Claimed, Reaped, Succeeded};
 
 use crate::solver::Summary;

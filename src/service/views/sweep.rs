@@ -2,7 +2,7 @@
 //! of its typed summary (N, mJ, s), and for a resolution sweep the convergence analysis.
 
 use super::{json, rfc3339};
-use crate::service::store::{JobRecord, Status, SweepRecord};
+use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
 use crate::solver::Summary;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use serde::Serialize;
@@ -73,12 +73,65 @@ impl TableNumber {
     }
 }
 
+/// A sweep of the list: what it varies and how far its jobs are, without the table.
+#[derive(Debug, Serialize)]
+pub struct SweepListItem {
+    pub id: Uuid,
+    pub label: Option<String>,
+    pub created_at: String,
+    pub owner: Option<String>,
+    pub parameters: Value,
+    /// Jobs of the sweep, all states.
+    pub jobs: i64,
+    pub counts: serde_json::Map<String, Value>,
+    pub links: SweepLinks,
+}
+
+#[derive(Debug, Serialize)]
+pub struct SweepLinks {
+    #[serde(rename = "self")]
+    pub this: String,
+}
+
+fn counts(of: impl Fn(Status) -> i64) -> serde_json::Map<String, Value> {
+    Status::ALL
+        .iter()
+        .map(|s| (s.as_str().to_string(), of(*s).into()))
+        .collect()
+}
+
+impl SweepListItem {
+    pub fn new(l: &SweepListed) -> SweepListItem {
+        let of = |status| {
+            l.counts
+                .iter()
+                .filter(|(s, _)| *s == status)
+                .map(|(_, n)| n)
+                .sum()
+        };
+        SweepListItem {
+            id: l.record.id,
+            label: l.record.label.clone(),
+            created_at: rfc3339(l.record.created_at),
+            owner: l.record.owner.clone(),
+            parameters: json(Some(&l.record.parameters_json)).unwrap_or(Value::Null),
+            jobs: l.counts.iter().map(|(_, n)| n).sum(),
+            counts: counts(of),
+            links: SweepLinks {
+                this: format!("/v1/sweeps/{}", l.record.id),
+            },
+        }
+    }
+}
+
 /// A sweep as the API shows it: its parameters, and one table row per job.
 #[derive(Debug, Serialize)]
 pub struct SweepView {
     pub id: Uuid,
     pub label: Option<String>,
     pub created_at: String,
+    /// The name of the token that submitted it; null on a server without tokens.
+    pub owner: Option<String>,
     pub parameters: Value,
     pub base: Value,
     pub counts: serde_json::Map<String, Value>,
@@ -224,11 +277,7 @@ impl SweepView {
         columns.extend(fields.iter().cloned());
         columns.push("status".into());
         columns.extend(TableNumber::ALL.iter().map(|n| n.name().to_string()));
-        let mut counts = serde_json::Map::new();
-        for status in Status::ALL {
-            let n = jobs.iter().filter(|j| j.status == status).count();
-            counts.insert(status.as_str().into(), n.into());
-        }
+        let counts = counts(|status| jobs.iter().filter(|j| j.status == status).count() as i64);
         let convergence = fields
             .iter()
             .any(|f| f == RESOLUTION_FIELD)
@@ -261,6 +310,7 @@ impl SweepView {
             id: s.id,
             label: s.label.clone(),
             created_at: rfc3339(s.created_at),
+            owner: s.owner.clone(),
             parameters,
             base: json(Some(&s.base_json)).unwrap_or(Value::Null),
             counts,
@@ -346,6 +396,7 @@ mod tests {
             created_at: 0,
             parameters_json: r#"[["tube.thickness_mm", [1.5]]]"#.into(),
             base_json: "{}".into(),
+            owner: None,
         };
         let jobs = [
             record(Status::Succeeded, Some(done.clone())),

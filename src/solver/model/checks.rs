@@ -74,10 +74,7 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
     let m = &spec.material;
     let l = &spec.loading;
     c.positive("loading.plate_speed_m_s", l.plate_speed_m_s);
-    let crush = l.crush_distance_mm.unwrap_or(match l.mode {
-        LoadingMode::Axial => 50.0,
-        LoadingMode::Lateral => 12.5,
-    });
+    let crush = l.crush_distance_or_default();
     let wave = wave_speed_m_s(m);
     let material_ok = [m.youngs_modulus_mpa, m.density_kg_m3]
         .iter()

@@ -119,6 +119,17 @@ pub struct Loading {
 /// peak of a mild-steel tube within 2.5 % of a ramp twice as long (`docs/validation.md` §6).
 pub const DEFAULT_RAMP_MM: f64 = 0.5;
 
+impl Loading {
+    /// The crush distance, or the mode's default when the case names none, mm: 50 axial,
+    /// 12.5 lateral.
+    pub fn crush_distance_or_default(&self) -> f64 {
+        self.crush_distance_mm.unwrap_or(match self.mode {
+            LoadingMode::Axial => 50.0,
+            LoadingMode::Lateral => 12.5,
+        })
+    }
+}
+
 impl Default for Loading {
     fn default() -> Self {
         Loading {
