@@ -1,5 +1,5 @@
 // crush web page: the case form, built from GET /v1/case/fields; the browser checks each field, the server the whole case (POST /v1/estimate), and refusals show beside their fields.
-import { api, el, seconds } from "./util.js";
+import { api, el, seconds, verdictName } from "./util.js";
 import { refreshJobList } from "./list.js";
 
 // ---------- the case form ----------
@@ -193,6 +193,7 @@ function scheduleEstimate() {
     if (r.ok) {
       showProblem(null);
       const e = r.data;
+      showForeseen(e.verdict);
       out.textContent = `${e.particles.toLocaleString()} particles, ${e.steps.toLocaleString()} steps, ` +
         `about ${seconds(e.wall_time_s)} on ${e.threads} thread${e.threads === 1 ? "" : "s"}, ` +
         `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB` +
@@ -202,9 +203,26 @@ function scheduleEstimate() {
           `it cannot show ${e.reduced.cannot_show}.` : "");
     } else {
       out.textContent = "";
+      showForeseen(null);
       showProblem(r.data);
     }
   }, 350);
+}
+
+/// The level the case alone foretells (the estimate's verdict), for the Run button.
+let foreseenLevel = "trusted";
+
+/// Warns under the Run button of what will make the result less than trusted, rule by rule.
+function showForeseen(v) {
+  const box = document.getElementById("foreseen");
+  if (!box) return;
+  foreseenLevel = v ? v.level : "trusted";
+  const button = document.getElementById("submit");
+  delete button.dataset.armed;
+  button.textContent = "Run";
+  box.replaceChildren(...(v && v.reasons.length ? [
+    el("span", {}, `Before it runs, this case will come out ${verdictName(v.level)}:`),
+    el("ul", {}, v.reasons.map((r) => el("li", { "data-rule": r.rule }, r.detail)))] : []));
 }
 
 /// The form, empty (defaults) or filled with the case of job `fromJob`.
@@ -233,7 +251,7 @@ export async function renderForm(main, fromJob) {
         el("select", { id: "sweep-field" }, el("option", { value: "" }, "(no sweep)"),
           numeric.map((f) => el("option", { value: f.field }, f.field))),
         el("span"),
-        el("span", { class: "hint" }, "One job per value. Varying discretization.particles_through_thickness gives the convergence view."),
+        el("span", { class: "hint" }, "One job per value. Varying discretization.particles_through_thickness gives the convergence view; varying trigger.seed (with a trigger) gives the ensemble: mode counts and the spread of the loads."),
         el("div", { class: "err", "data-source": "" })),
       el("div", { class: "field" },
         el("label", { for: "sweep-values" }, "Values"),
@@ -244,6 +262,7 @@ export async function renderForm(main, fromJob) {
       el("button", { type: "button", class: "secondary", id: "reset", onclick: () => renderForm(document.getElementById("main")) }, "Defaults"),
       el("span", { id: "estimate" })),
     el("p", { class: "muted", id: "sweep-estimate" }),
+    el("div", { class: "foreseen", id: "foreseen", role: "status" }),
     el("p", { class: "form-error", id: "form-error" }));
   main.replaceChildren(el("h1", {}, "New crush case"),
     el("p", { class: "muted" }, "Every field shows its unit and default. The browser checks each value as you type; the server checks the whole case and its cost."),
@@ -283,6 +302,13 @@ async function submitForm(e) {
   const button = document.getElementById("submit");
   const first = checkAll();
   if (first) { first.focus(); return; }
+  // A case the verdict will not trust runs on a second click, once the warning has been read.
+  if (foreseenLevel === "not_trusted" && button.dataset.armed !== "yes") {
+    button.dataset.armed = "yes";
+    button.textContent = "Run anyway";
+    document.getElementById("foreseen").scrollIntoView({ block: "nearest" });
+    return;
+  }
   const c = readCase();
   const sweepField = document.getElementById("sweep-field").value;
   button.disabled = true;

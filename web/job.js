@@ -1,5 +1,5 @@
 // crush web page: one job — live load curve, summary against the closed-form references, the case, the deformed tube, downloads; run it again or delete it.
-import { api, el, fmt, isLive, jobName, kN, lineChart, modeName, onLeave, pct, seconds } from "./util.js";
+import { api, el, fmt, isLive, jobName, kN, lineChart, modeName, onLeave, pct, seconds, verdictBox } from "./util.js";
 import { loadFields } from "./form.js";
 import { refreshJobList } from "./list.js";
 
@@ -169,6 +169,7 @@ export async function renderJob(main, id) {
       await showResult(job, set, side, below);
     } else {
       barText.textContent = job.error || job.status;
+      if (job.verdict) side.prepend(el("h2", {}, "Verdict"), verdictBox(job.verdict, "verdict"));
     }
   };
   if (isLive(job.status)) {
@@ -220,7 +221,9 @@ async function showResult(job, set, side, below) {
   }
   const s = job.summary;
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
-  side.replaceChildren(el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Energy books"), energyTable(s),
+  side.replaceChildren(el("h2", {}, "Verdict"), verdictBox(job.verdict || s.verdict, "verdict") ||
+    el("p", { class: "small muted", id: "verdict" }, "This result was stored before there were verdicts."),
+  el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Energy books"), energyTable(s),
     el("h2", {}, "Against closed-form references"),
     referenceTable(s, lateral),
     el("p", { class: "small muted" }, "Green: within 25 % of the reference.",

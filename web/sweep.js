@@ -1,5 +1,5 @@
-// crush web page: a sweep — its runs' load curves overlaid, its table, and for a resolution sweep the convergence view (error against run time).
-import { align, api, columnLabel, el, fmt, isLive, kN, lineChart, onLeave, pct, seconds, short } from "./util.js";
+// crush web page: a sweep — its runs' load curves overlaid, its table, for a resolution sweep the convergence view (error against run time), and for a sweep over trigger seeds the ensemble's distribution.
+import { align, api, columnLabel, el, fmt, isLive, kN, lineChart, modeName, onLeave, pct, seconds, short, verdictName } from "./util.js";
 import { refreshSweepList } from "./list.js";
 
 // ---------- sweep view (and convergence) ----------
@@ -19,6 +19,8 @@ async function historyOf(id) {
 function cell(column, value) {
   if (column === "job_id") return el("td", {}, el("a", { href: `#/jobs/${value}` }, String(value).slice(0, 8)));
   if (column === "status") return el("td", {}, el("span", { class: "badge " + value }, value));
+  if (column === "verdict" && value) return el("td", {}, el("span", { class: "badge " + value }, verdictName(value)));
+  if (column === "verdict_reasons") return el("td", { class: "small" }, value ? value.replaceAll("_", " ") : "–");
   if (value === null || value === undefined) return el("td", { class: "num" }, "–");
   if (column.endsWith("_n")) return el("td", { class: "num" }, kN(value));
   if (column.endsWith("_mj")) return el("td", { class: "num" }, fmt(value / 1000) + " J");
@@ -35,6 +37,7 @@ export async function renderSweep(main, id) {
   const curveBox = el("div", { class: "chart", id: "sweep-curves" });
   const tableBox = el("div", { id: "sweep-table" });
   const convBox = el("div", { id: "convergence" });
+  const ensBox = el("div", { id: "ensemble" });
   const countsText = el("span", { class: "muted", id: "sweep-counts" });
   const note = el("span", { class: "small", id: "sweep-action-note" });
   // Once every job has finished, the sweep can be deleted with its jobs: first click asks.
@@ -50,7 +53,7 @@ export async function renderSweep(main, id) {
   main.replaceChildren(
     el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText, remove, note),
     el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id}`),
-    el("h2", {}, "Load curves"), curveBox, el("h2", {}, "Runs"), tableBox, convBox);
+    el("h2", {}, "Load curves"), curveBox, ensBox, el("h2", {}, "Runs"), tableBox, convBox);
   const rowName = (row) => fields.map((f) => `${short(f)} = ${row[f]}`).join(", ");
   let chart = null;
   let drawn = "";
@@ -60,6 +63,7 @@ export async function renderSweep(main, id) {
     const r = await api("GET", `/v1/sweeps/${id}`);
     if (!r.ok || !document.body.contains(curveBox)) return;
     const v = r.data;
+    if (v.ensemble) renderEnsemble(ensBox, v.ensemble);
     countsText.textContent = Object.entries(v.counts).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(" · ");
     tableBox.replaceChildren(el("div", { class: "scroll" }, el("table", {},
       el("thead", {}, el("tr", {}, v.columns.map((c) => el("th", { title: c }, columnLabel(c))))),
@@ -81,6 +85,26 @@ export async function renderSweep(main, id) {
   };
   onLeave(() => clearTimeout(timer));
   await update();
+}
+
+/// An ensemble over seeds: per group, how often each mode came out and how far the loads spread.
+function renderEnsemble(box, groups) {
+  const spread = (x) => `${kN(x.mean)} ± ${kN(x.sd)} (min ${kN(x.min)}, max ${kN(x.max)})`;
+  box.replaceChildren(el("h2", {}, "Ensemble over trigger seeds"), ...groups.map((g) => {
+    const d = g.distribution;
+    if (!d) return el("p", { class: "muted" }, `${g.group ? g.group + ": " : ""}no run has finished yet (${g.jobs} seeds).`);
+    return el("div", { class: "ensemble-group" },
+      g.group ? el("h3", {}, g.group) : null,
+      el("table", {}, el("tbody", {},
+        el("tr", {}, el("th", {}, "Runs finished"), el("td", { class: "num" }, `${d.runs} of ${g.jobs}`)),
+        el("tr", {}, el("th", {}, "Collapse modes"), el("td", { class: "modes" },
+          d.modes.map((m) => `${modeName(m.mode)}: ${m.runs} (${Math.round(100 * m.share)} %)`).join(" · "))),
+        el("tr", {}, el("th", {}, "Mean load"), el("td", { class: "num" }, spread(d.mean_load_n))),
+        el("tr", {}, el("th", {}, "Peak load"), el("td", { class: "num" }, spread(d.peak_load_n))),
+        el("tr", {}, el("th", {}, "Energy absorbed"), el("td", { class: "num" },
+          `${fmt(d.energy_absorbed_mj.mean / 1000)} ± ${fmt(d.energy_absorbed_mj.sd / 1000)} J`)))),
+      d.not_trusted_runs ? el("p", { class: "small warn" }, `${d.not_trusted_runs} of these runs are not trusted by their own verdict.`) : null);
+  }));
 }
 
 /// What the server read off: the cheapest run within 5 % of the best estimate.

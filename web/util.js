@@ -89,6 +89,18 @@ export const modeName = (m) => {
   if (m.kind === "diamond") return `diamond, ${m.lobes} lobes`;
   return m.kind.replace("_", " ");
 };
+// A verdict's level in words.
+export const verdictName = (level) => ({ trusted: "trusted", caution: "caution", not_trusted: "not trusted" })[level] || level;
+// A verdict as a badge and its reasons, each with its rule and level ([] when trusted).
+export const verdictBox = (v, id) => {
+  if (!v) return null;
+  return el("div", { class: "verdict", id },
+    el("span", { class: "badge " + v.level, "data-level": v.level }, verdictName(v.level)),
+    v.reasons.length
+      ? el("ul", { class: "reasons" }, v.reasons.map((r) => el("li", { "data-rule": r.rule },
+        el("strong", {}, `${verdictName(r.level)} · ${r.rule.replaceAll("_", " ")}: `), r.detail)))
+      : el("span", { class: "small muted" }, " no rule found a reason to doubt this result"));
+};
 // Short names of the fields most often swept, as the design page writes them.
 const SHORT = {
   "discretization.particles_through_thickness": "n", "tube.thickness_mm": "t", "tube.mean_diameter_mm": "d",

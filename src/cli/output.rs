@@ -158,6 +158,7 @@ mod tests {
                 energy_balance_error: 0.0,
                 energy: Default::default(),
                 kinetic_to_internal: 0.0,
+                verdict: None,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),
                 cost: RunCost::default(),

@@ -35,6 +35,18 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         shape.default_reason.as_deref().unwrap_or(shape.kind.name())
     );
     let _ = writeln!(o);
+    if let Some(v) = &s.verdict {
+        let _ = writeln!(o, "  verdict          {}", v.level.name());
+        for reason in &v.reasons {
+            let _ = writeln!(
+                o,
+                "                   {} ({}): {}",
+                reason.level.name(),
+                reason.rule.name(),
+                reason.detail
+            );
+        }
+    }
     let _ = writeln!(
         o,
         "  mean load        {}   ({} x {} {})",
@@ -219,6 +231,7 @@ mod tests {
                 ..Default::default()
             },
             shape: Some(case.shape_choice().clone()),
+            verdict: None,
         }
     }
 
@@ -257,6 +270,29 @@ mod tests {
         );
         assert!(text.contains("cost: 35000 particles, 1000 steps"), "{text}");
         assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    }
+
+    #[test]
+    fn the_report_gives_the_verdict_above_the_numbers_with_each_reason() {
+        let case = Case::from_json(
+            r#"{"discretization": {"particles_through_thickness": 2}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        let mut s = summary(&case, 9_513.6, CollapseMode::Ring);
+        s.energy_balance_error = 0.06;
+        s.verdict = Some(crate::solver::analysis::verdict::of_run(&case, &s));
+        let text = format_report(&case, &s, &ModeDetail::default());
+        let verdict = text.find("  verdict          not_trusted\n").expect(&text);
+        assert!(verdict < text.find("mean load").unwrap(), "{text}");
+        assert!(
+            text.contains("caution (thin_resolution): 2 particles"),
+            "{text}"
+        );
+        assert!(
+            text.contains("not_trusted (energy_balance): the energy books close to 6.0 %"),
+            "{text}"
+        );
     }
 
     #[test]

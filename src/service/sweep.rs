@@ -13,6 +13,7 @@
 use crate::solver::model::case::{field_paths, spec_from_value};
 use crate::solver::model::input::{clip, clip_quoted, object_from_str, set_field, JsonError};
 use crate::solver::{Case, CaseError, FieldError, Limits};
+use crate::study::ensemble::SEED_FIELD;
 use serde::Deserialize;
 use serde_json::{Map, Value};
 
@@ -29,8 +30,24 @@ pub struct SweepRequest {
     #[serde(default = "empty_object")]
     pub base: Value,
     /// Field path → values, e.g. `"tube.thickness_mm": [1.27, 2.0, 3.2]`.
+    #[serde(default)]
     pub parameters: Map<String, Value>,
+    /// Run every combination over this many trigger seeds, from the base's `trigger.seed` on:
+    /// `trigger.seed` becomes the last (fastest) parameter, and the sweep's view reads the
+    /// runs as a distribution.
+    #[serde(default)]
+    pub ensemble: Option<EnsembleRequest>,
 }
+
+/// An ensemble over trigger seeds.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnsembleRequest {
+    pub seeds: u64,
+}
+
+/// The fewest seeds an ensemble takes: one seed is a single run.
+pub const MIN_ENSEMBLE_SEEDS: u64 = 2;
 
 fn empty_object() -> Value {
     Value::Object(Map::new())
@@ -95,11 +112,28 @@ pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusa
     let req = read(text).map_err(Refusal::Malformed)?;
     // The base's names and types, once: every combination is a copy of it. (The contract
     // takes any object as a base, so what is wrong with it is a 422, as for a combination.)
-    if let Err(CaseError::Malformed { field, message }) = spec_from_value(&req.base) {
-        let field = field.map_or_else(|| "base".into(), |f| format!("base.{f}"));
-        return Err(Refusal::Invalid(vec![fail(&field, &message)]));
+    let trigger = match spec_from_value(&req.base) {
+        Ok(spec) => spec.trigger,
+        Err(CaseError::Malformed { field, message }) => {
+            let field = field.map_or_else(|| "base".into(), |f| format!("base.{f}"));
+            return Err(Refusal::Invalid(vec![fail(&field, &message)]));
+        }
+        Err(CaseError::Invalid(found)) => return Err(Refusal::Invalid(found)),
+    };
+    let mut params = parameters(&req, max_jobs).map_err(Refusal::Invalid)?;
+    if let Some(e) = &req.ensemble {
+        // Without weak particles every seed gives the same run; with a swept weak fraction,
+        // each combination is checked on its own below.
+        let swept = params.iter().any(|(f, _)| f == "trigger.weak_fraction");
+        if trigger.weak_fraction <= 0.0 && !swept {
+            return Err(Refusal::Invalid(vec![fail(
+                "ensemble",
+                "needs a trigger: base.trigger.weak_fraction must be > 0, or every seed gives                  the same run",
+            )]));
+        }
+        let seeds = (0..e.seeds).map(|k| Value::from(trigger.seed.saturating_add(k)));
+        params.push((SEED_FIELD.to_string(), seeds.collect()));
     }
-    let params = parameters(&req, max_jobs).map_err(Refusal::Invalid)?;
     let mut base = req.base.clone();
     if let (Some(label), Some(object)) = (&req.label, base.as_object_mut()) {
         object
@@ -180,11 +214,32 @@ pub fn parameters(
 ) -> Result<Vec<(String, Vec<Value>)>, Vec<FieldError>> {
     let fields = field_paths();
     let mut errors = Vec::new();
-    if req.parameters.is_empty() {
+    if req.parameters.is_empty() && req.ensemble.is_none() {
         errors.push(fail(
             "parameters",
-            "must name at least one field with a list of values",
+            "must name at least one field with a list of values (or give an ensemble)",
         ));
+    }
+    // The seeds count as one more parameter's values; bounded here, before any is built.
+    let seeds = req.ensemble.as_ref().map_or(1, |e| e.seeds);
+    if let Some(e) = &req.ensemble {
+        if e.seeds < MIN_ENSEMBLE_SEEDS {
+            errors.push(fail(
+                "ensemble.seeds",
+                &format!("must be at least {MIN_ENSEMBLE_SEEDS}"),
+            ));
+        } else if e.seeds > max_jobs as u64 {
+            errors.push(fail(
+                "ensemble.seeds",
+                &format!("must be at most this server's limit of {max_jobs} jobs a sweep"),
+            ));
+        }
+        if req.parameters.contains_key(SEED_FIELD) {
+            errors.push(fail(
+                &format!("parameters.{SEED_FIELD}"),
+                "cannot be swept with an ensemble, which sets the seeds",
+            ));
+        }
     }
     if req.parameters.len() > fields.len() {
         // Not one error per name: their number is bounded only by the body's size.
@@ -232,7 +287,9 @@ pub fn parameters(
     }
     let count = out
         .iter()
-        .fold(1usize, |n, (_, v)| n.saturating_mul(v.len()));
+        .fold(seeds.clamp(1, usize::MAX as u64) as usize, |n, (_, v)| {
+            n.saturating_mul(v.len())
+        });
     if count > max_jobs {
         errors.push(fail(
             "parameters",
@@ -468,5 +525,63 @@ mod tests {
         let req = request(json!({"label": "x".repeat(201), "parameters": {"label": ["a"]}}));
         let errors = parameters(&req, 100).unwrap_err();
         assert_eq!(errors[0].field, "label");
+    }
+
+    fn refusal(body: Value, max_jobs: usize) -> Vec<FieldError> {
+        match plan(&body.to_string(), &Limits::default(), max_jobs) {
+            Err(Refusal::Invalid(errors)) => errors,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn an_ensemble_runs_each_combination_over_seeds_from_the_base_seed_on() {
+        let body = json!({
+            "base": {"trigger": {"weak_fraction": 0.003, "seed": 7},
+                     "discretization": {"particles_through_thickness": 2}},
+            "parameters": {"tube.length_mm": [60, 70]},
+            "ensemble": {"seeds": 3}
+        });
+        let p = plan(&body.to_string(), &Limits::default(), 100).unwrap();
+        assert_eq!(p.parameters.last().unwrap().0, SEED_FIELD);
+        let seeds: Vec<u64> = p
+            .jobs
+            .iter()
+            .map(|j| j.values[SEED_FIELD].as_u64().unwrap())
+            .collect();
+        assert_eq!(seeds, [7, 8, 9, 7, 8, 9]);
+        assert_eq!(p.jobs[4].case["trigger"]["seed"], 8);
+        assert_eq!(p.jobs[4].case["tube"]["length_mm"], 70);
+    }
+
+    #[test]
+    fn an_ensemble_without_a_trigger_or_with_too_few_or_too_many_seeds_is_refused() {
+        let untriggered = json!({"base": {}, "ensemble": {"seeds": 3}});
+        assert_eq!(refusal(untriggered, 100)[0].field, "ensemble");
+        let triggered = json!({"trigger": {"weak_fraction": 0.003}});
+        let one = json!({"base": triggered, "ensemble": {"seeds": 1}});
+        assert_eq!(refusal(one, 100)[0].field, "ensemble.seeds");
+        // Refused before a single seed is built, however many are asked for.
+        let huge = json!({"base": triggered, "ensemble": {"seeds": u64::MAX}});
+        let errors = refusal(huge, 100);
+        assert_eq!(errors[0].field, "ensemble.seeds");
+        assert!(errors[0].reason.contains("100"), "{errors:?}");
+        let product = json!({"base": triggered, "ensemble": {"seeds": 30},
+                             "parameters": {"tube.length_mm": [40, 50, 60, 70]}});
+        let errors = refusal(product, 100);
+        assert!(
+            errors
+                .iter()
+                .any(|e| e.field == "parameters" && e.reason.contains("120")),
+            "{errors:?}"
+        );
+        let both = json!({"base": triggered, "ensemble": {"seeds": 3},
+                          "parameters": {"trigger.seed": [1, 2]}});
+        assert_eq!(refusal(both, 100)[0].field, "parameters.trigger.seed");
+        let unknown = json!({"base": triggered, "ensemble": {"seeds": 3, "from": 2}});
+        assert!(matches!(
+            plan(&unknown.to_string(), &Limits::default(), 100),
+            Err(Refusal::Malformed(_))
+        ));
     }
 }

@@ -7,6 +7,7 @@ pub use sweep::{SweepListItem, SweepView};
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status};
+use crate::solver::analysis::verdict::{self, Verdict};
 use crate::solver::{RunOutput, Summary};
 use serde::Serialize;
 use serde_json::Value;
@@ -78,6 +79,9 @@ pub struct JobView {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub case: Option<Value>,
     pub summary: Option<Summary>,
+    /// How far to trust the result: the summary's verdict, or not trusted for a run that failed
+    /// on a blow-up; null while it runs and for a result stored before there were verdicts.
+    pub verdict: Option<Verdict>,
     pub links: JobLinks,
 }
 
@@ -112,6 +116,11 @@ impl JobView {
                 None
             },
             summary: r.summary.clone(),
+            verdict: match r.status {
+                Status::Succeeded => r.summary.as_ref().and_then(|s| s.verdict.clone()),
+                Status::Failed => r.error.as_deref().and_then(verdict::of_failure),
+                _ => None,
+            },
             links: JobLinks {
                 events: format!("{base}/events"),
                 history: format!("{base}/history"),
@@ -217,6 +226,11 @@ mod tests {
         let mut documented = std::collections::BTreeSet::new();
         for (k, inner) in schema.as_object().unwrap() {
             documented.insert(k.clone());
+            // A field described by a shared schema: read that one's properties.
+            let inner = match inner.get("$ref").and_then(Value::as_str) {
+                Some(r) => &doc["components"]["schemas"][r.rsplit('/').next().unwrap()],
+                None => inner,
+            };
             if let Some(o) = inner.get("properties").and_then(Value::as_object) {
                 documented.extend(o.keys().map(|i| format!("{k}.{i}")));
             }
@@ -229,6 +243,43 @@ mod tests {
             .filter(|k| !k.starts_with("references."))
             .collect();
         assert_eq!(documented, served);
+    }
+
+    #[test]
+    fn a_job_that_failed_on_a_blow_up_is_not_trusted_and_other_failures_say_nothing() {
+        let record = |status, error: Option<&str>| JobRecord {
+            seq: 1,
+            id: Uuid::new_v4(),
+            status,
+            label: None,
+            case_json: "{}".into(),
+            particles: 1,
+            sweep_id: None,
+            sweep_values_json: None,
+            created_at: 0,
+            started_at: None,
+            finished_at: None,
+            attempts: 1,
+            cancel_requested: false,
+            progress_json: None,
+            error: error.map(str::to_string),
+            node: None,
+            checkpoint: None,
+            owner: None,
+            summary: None,
+        };
+        let blow_up = "unstable at step 40 (t = 0.010000 ms): a non-finite stress at particle 7";
+        let v = JobView::new(&record(Status::Failed, Some(blow_up)), false)
+            .verdict
+            .unwrap();
+        assert_eq!(v.level, verdict::Level::NotTrusted);
+        assert_eq!(v.reasons[0].rule, verdict::Rule::Unstable);
+        let other = record(Status::Failed, Some("gave up after 3 attempts"));
+        assert_eq!(JobView::new(&other, false).verdict, None);
+        assert_eq!(
+            JobView::new(&record(Status::Running, None), false).verdict,
+            None
+        );
     }
 
     #[test]

@@ -2,3 +2,4 @@
 //! shared by the command line (`crush study`) and the job service's sweep tables.
 
 pub mod convergence;
+pub mod ensemble;

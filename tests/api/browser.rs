@@ -131,6 +131,16 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
         "the estimate",
     )
     .await;
+    // Two particles through the wall: the form says, before the run, why the result will be
+    // read with caution.
+    let foreseen = until(
+        &c,
+        "return document.querySelector('#foreseen li[data-rule=\"thin_resolution\"]') ? document.getElementById('foreseen').textContent : null;",
+        long,
+        "the foreseen verdict",
+    )
+    .await;
+    assert!(foreseen.as_str().unwrap().contains("caution"), "{foreseen}");
     click(&c, "#submit").await;
     until(
         &c,
@@ -191,6 +201,27 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     .await;
     let summary = js(&c, "return document.getElementById('summary').textContent;").await;
     assert!(summary.as_str().unwrap().contains("kN"), "{summary}");
+    // The verdict beside the numbers: a badge of the job's level and its thin-wall reason.
+    let job_id = js(&c, "return location.hash.split('/').pop();").await;
+    let served = crate::common::get_json(
+        &app.client,
+        &app.at(&format!("/v1/jobs/{}", job_id.as_str().unwrap())),
+    )
+    .await;
+    let level = js(
+        &c,
+        "return document.querySelector('#verdict .badge').dataset.level;",
+    )
+    .await;
+    assert_eq!(level, served["verdict"]["level"]);
+    assert_eq!(
+        js(
+            &c,
+            "return document.querySelector('#verdict li[data-rule=\"thin_resolution\"]') !== null;"
+        )
+        .await,
+        true
+    );
     let refs = js(
         &c,
         "return document.getElementById('references').textContent;",

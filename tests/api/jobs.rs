@@ -322,6 +322,15 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
     for row in table["rows"].as_array().unwrap() {
         assert_eq!(row["status"], "succeeded");
         assert!(row["mean_load_n"].is_number(), "{row}");
+        // One particle through the wall: each run's verdict says so, in the table as in its job.
+        assert_eq!(row["verdict"], "not_trusted", "{row}");
+        assert!(
+            row["verdict_reasons"]
+                .as_str()
+                .unwrap()
+                .contains("thin_resolution"),
+            "{row}"
+        );
     }
     assert_eq!(table["counts"]["succeeded"], 3);
     let csv = app
@@ -336,6 +345,14 @@ async fn a_sweep_of_three_thicknesses_makes_three_jobs_and_a_table() {
         lines[0].starts_with("job_id,tube.thickness_mm,status,mean_load_n"),
         "{csv}"
     );
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let at = header
+        .iter()
+        .position(|c| *c == "verdict")
+        .expect("a verdict column");
+    for line in &lines[1..] {
+        assert_eq!(line.split(',').nth(at), Some("not_trusted"), "{csv}");
+    }
     let jobs = get_json(&app.client, &app.at("/v1/jobs?label=thickness")).await;
     assert_eq!(jobs["jobs"].as_array().unwrap().len(), 3);
 
@@ -372,6 +389,18 @@ async fn the_estimate_gives_the_cost_of_a_case() {
     for key in ["particles", "cells", "steps", "memory_bytes", "wall_time_s"] {
         assert!(e[key].as_f64().unwrap() > 0.0, "{key} in {e}");
     }
+    // What the case alone tells of the verdict: one particle through the wall and 1 mm of
+    // crush; the paper's own case foretells nothing against it.
+    assert_eq!(e["verdict"]["level"], "not_trusted", "{e}");
+    let rules: Vec<&str> = e["verdict"]["reasons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["rule"].as_str().unwrap())
+        .collect();
+    assert_eq!(rules, ["thin_resolution", "too_short_to_fold"], "{e}");
+    let paper = app.estimate(&json!({})).await;
+    assert_eq!(paper["verdict"], json!({"level": "trusted", "reasons": []}));
     let health = app.client.get(app.at("/healthz")).send().await.unwrap();
     assert_eq!(health.status(), 200);
 }
@@ -547,4 +576,75 @@ async fn a_resolution_sweep_carries_error_and_run_time_columns() {
     let columns = r["columns"].as_array().unwrap();
     assert!(!columns.iter().any(|c| c == "mean_error_vs_finest"));
     assert!(r.get("convergence").is_none());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_ensemble_over_three_seeds_gives_the_distribution_of_its_runs() {
+    let app = TestApp::start(&["--concurrent-jobs", "2"]).await;
+    let mut base = tiny_case();
+    base["trigger"] = json!({"weak_fraction": 0.05, "seed": 4});
+    let body = json!({"label": "seeds", "base": base, "ensemble": {"seeds": 3}});
+    let (location, sweep) = app.create_sweep(&body).await;
+    let seeds: Vec<u64> = sweep["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["trigger.seed"].as_u64().unwrap())
+        .collect();
+    assert_eq!(seeds, [4, 5, 6]);
+    for row in sweep["rows"].as_array().unwrap() {
+        let id = row["job_id"].as_str().unwrap();
+        app.wait_for(id, &["succeeded"], Duration::from_secs(60))
+            .await;
+    }
+    let table = get_json(&app.client, &app.at(&location)).await;
+    let groups = table["ensemble"].as_array().unwrap();
+    assert_eq!(groups.len(), 1, "{table}");
+    let d = &groups[0]["distribution"];
+    assert_eq!(d["runs"], 3, "{d}");
+    // The distribution is that of the runs in the table.
+    let loads: Vec<f64> = table["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["mean_load_n"].as_f64().unwrap())
+        .collect();
+    let mean = loads.iter().sum::<f64>() / 3.0;
+    assert!((d["mean_load_n"]["mean"].as_f64().unwrap() - mean).abs() <= 1e-9 * mean);
+    let min = loads.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(d["mean_load_n"]["min"].as_f64().unwrap(), min);
+    let counted: u64 = d["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["runs"].as_u64().unwrap())
+        .sum();
+    assert_eq!(counted, 3);
+    // The CSV carries each row's group distribution.
+    let csv = app
+        .get(&format!("{location}?format=csv"))
+        .await
+        .text()
+        .await
+        .unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for column in ["ensemble_runs", "ensemble_modes", "ensemble_sd_load_n"] {
+        assert!(header.contains(&column), "{column} in {csv}");
+    }
+    let runs_at = header.iter().position(|c| *c == "ensemble_runs").unwrap();
+    assert!(
+        csv.lines()
+            .skip(1)
+            .all(|l| l.split(',').nth(runs_at) == Some("3")),
+        "{csv}"
+    );
+
+    // Without a trigger every seed is the same run: refused, nothing stored.
+    let flat = json!({"base": tiny_case(), "ensemble": {"seeds": 3}});
+    let r = app.post_json("/v1/sweeps", &flat).await;
+    assert_eq!(r.status(), 422);
+    let problem: Value = r.json().await.unwrap();
+    assert_eq!(problem["errors"][0]["field"], "ensemble", "{problem}");
+    let all = get_json(&app.client, &app.at("/v1/jobs")).await;
+    assert_eq!(all["jobs"].as_array().unwrap().len(), 3);
 }

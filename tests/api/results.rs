@@ -21,6 +21,18 @@ async fn a_succeeded_job_gives_its_summary_picture_and_vtu() {
 
     let summary = get_json(&app.client, &app.at(&format!("/v1/jobs/{id}/summary"))).await;
     assert_eq!(summary, job["summary"]);
+    // One particle through an 8 mm tube's wall crushed 1 mm at 20 m/s: the job says not to
+    // trust it, and why; its summary carries the same verdict.
+    assert_eq!(job["verdict"], summary["verdict"]);
+    assert_eq!(job["verdict"]["level"], "not_trusted", "{job}");
+    let rules: Vec<&str> = job["verdict"]["reasons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["rule"].as_str().unwrap())
+        .collect();
+    assert!(rules.contains(&"thin_resolution"), "{rules:?}");
+    assert!(rules.contains(&"too_short_to_fold"), "{rules:?}");
 
     let r = app.get(&format!("/v1/jobs/{id}/shape.png")).await;
     assert_eq!(r.status(), 200);

@@ -149,10 +149,17 @@ class Client:
 
     # ---------- sweeps ----------
 
-    def submit_sweep(self, base: dict, parameters: dict, label: Optional[str] = None) -> dict:
+    def submit_sweep(self, base: dict, parameters: Optional[dict] = None,
+                     label: Optional[str] = None, seeds: Optional[int] = None) -> dict:
         """One job per combination of `parameters` (dotted field → list of values) on the
-        `base` case; all are queued or none. Returns the sweep (`id`, `rows`, ...)."""
-        body = {"base": base, "parameters": parameters}
+        `base` case; all are queued or none. With `seeds`, every combination runs over that
+        many trigger seeds from the base's on (an ensemble: the sweep's `ensemble` holds the
+        distribution of its runs). Returns the sweep (`id`, `rows`, ...)."""
+        body: dict = {"base": base}
+        if parameters:
+            body["parameters"] = parameters
+        if seeds is not None:
+            body["ensemble"] = {"seeds": seeds}
         if label is not None:
             body["label"] = label
         return self._json("POST", "/v1/sweeps", body)

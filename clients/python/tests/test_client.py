@@ -71,6 +71,18 @@ def test_a_sweep_table_is_a_dataframe_with_a_row_per_job(crush):
     assert listed[0]["counts"]["succeeded"] == 2
 
 
+def test_an_ensemble_over_seeds_gives_the_distribution_and_the_verdicts(crush):
+    base = {**tiny(None), "trigger": {"weak_fraction": 0.05, "seed": 2}}
+    sweep = crush.submit_sweep(base, seeds=3, label="seeds")
+    table = crush.wait_sweep(sweep["id"])
+    assert list(table["trigger.seed"]) == [2, 3, 4]
+    assert (table["verdict"] == "not_trusted").all()
+    assert (table["ensemble_runs"] == 3).all()
+    spread = crush.sweep(sweep["id"])["ensemble"][0]["distribution"]["mean_load_n"]
+    assert spread["min"] <= spread["mean"] <= spread["max"]
+    assert spread["min"] == table["mean_load_n"].min()
+
+
 def test_a_refused_case_names_its_fields(crush):
     bad = {**TINY, "tube": {**TINY["tube"], "thickness_mm": 15}}
     with pytest.raises(CrushError) as e:

@@ -5,6 +5,7 @@ use super::{json, rfc3339};
 use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
 use crate::solver::Summary;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
+use crate::study::ensemble::{Distribution, SEED_FIELD};
 use serde::Serialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -19,6 +20,8 @@ pub enum TableNumber {
     Folds,
     Mode,
     EnergyBalanceError,
+    Verdict,
+    VerdictReasons,
     Particles,
     Steps,
     WallTime,
@@ -27,13 +30,15 @@ pub enum TableNumber {
 
 impl TableNumber {
     /// Every number, in column order.
-    pub const ALL: [TableNumber; 10] = [
+    pub const ALL: [TableNumber; 12] = [
         TableNumber::MeanLoad,
         TableNumber::PeakLoad,
         TableNumber::EnergyAbsorbed,
         TableNumber::Folds,
         TableNumber::Mode,
         TableNumber::EnergyBalanceError,
+        TableNumber::Verdict,
+        TableNumber::VerdictReasons,
         TableNumber::Particles,
         TableNumber::Steps,
         TableNumber::WallTime,
@@ -49,6 +54,8 @@ impl TableNumber {
             TableNumber::Folds => "folds",
             TableNumber::Mode => "mode",
             TableNumber::EnergyBalanceError => "energy_balance_error",
+            TableNumber::Verdict => "verdict",
+            TableNumber::VerdictReasons => "verdict_reasons",
             TableNumber::Particles => "particles",
             TableNumber::Steps => "steps",
             TableNumber::WallTime => "wall_time_s",
@@ -65,6 +72,19 @@ impl TableNumber {
             TableNumber::Folds => s.folds.into(),
             TableNumber::Mode => s.mode.kind().into(),
             TableNumber::EnergyBalanceError => s.energy_balance_error.into(),
+            // Null for a summary stored before there were verdicts.
+            TableNumber::Verdict => s.verdict.as_ref().map(|v| v.level.name()).into(),
+            TableNumber::VerdictReasons => s
+                .verdict
+                .as_ref()
+                .map(|v| {
+                    v.reasons
+                        .iter()
+                        .map(|r| r.rule.name())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                })
+                .into(),
             TableNumber::Particles => s.cost.particles.into(),
             TableNumber::Steps => s.cost.steps.into(),
             TableNumber::WallTime => s.cost.wall_time_s.into(),
@@ -141,6 +161,84 @@ pub struct SweepView {
     /// other swept values, the runs with their errors and the Richardson extrapolations.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub convergence: Option<Vec<GroupView>>,
+    /// When the sweep varies `trigger.seed` (an ensemble): per group of the other swept
+    /// values, the distribution of its finished runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<Vec<EnsembleGroup>>,
+}
+
+/// One group of an ensemble: the runs that differ only in their seed.
+#[derive(Debug, Serialize)]
+pub struct EnsembleGroup {
+    /// The other swept values, `field=value, …` (empty when only the seed varies).
+    pub group: String,
+    /// Runs of the group, finished or not.
+    pub jobs: usize,
+    /// The distribution of its succeeded runs; null until one has succeeded.
+    pub distribution: Option<Distribution>,
+}
+
+/// Columns added when the sweep varies the seed: the row's group's distribution.
+pub const ENSEMBLE_COLUMNS: [&str; 7] = [
+    "ensemble_runs",
+    "ensemble_modes",
+    "ensemble_mean_load_n",
+    "ensemble_sd_load_n",
+    "ensemble_min_load_n",
+    "ensemble_max_load_n",
+    "ensemble_not_trusted_runs",
+];
+
+/// The ensemble's groups, in order of first appearance.
+fn ensembles(fields: &[String], jobs: &[JobRecord]) -> Vec<EnsembleGroup> {
+    let mut groups: Vec<(String, Vec<&JobRecord>)> = Vec::new();
+    for j in jobs {
+        let key = values_key(fields, j, SEED_FIELD);
+        match groups.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, members)) => members.push(j),
+            None => groups.push((key, vec![j])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(group, members)| {
+            let done: Vec<&Summary> = members
+                .iter()
+                .filter(|j| j.status == Status::Succeeded)
+                .filter_map(|j| j.summary.as_ref())
+                .collect();
+            EnsembleGroup {
+                group,
+                jobs: members.len(),
+                distribution: Distribution::of(&done),
+            }
+        })
+        .collect()
+}
+
+/// The job's swept values other than `left_out`, as one string.
+fn values_key(fields: &[String], job: &JobRecord, left_out: &str) -> String {
+    let values = json(job.sweep_values_json.as_deref()).unwrap_or(Value::Null);
+    key_without(fields, &values, left_out)
+}
+
+impl EnsembleGroup {
+    fn fill(&self, row: &mut serde_json::Map<String, Value>) {
+        let d = self.distribution.as_ref();
+        let mut put = |k: &str, v: Option<Value>| {
+            row.insert(k.into(), v.unwrap_or(Value::Null));
+        };
+        put("ensemble_runs", d.map(|d| d.runs.into()));
+        put("ensemble_modes", d.map(|d| d.modes_line().into()));
+        put("ensemble_mean_load_n", d.map(|d| d.mean_load_n.mean.into()));
+        put("ensemble_sd_load_n", d.map(|d| d.mean_load_n.sd.into()));
+        put("ensemble_min_load_n", d.map(|d| d.mean_load_n.min.into()));
+        put("ensemble_max_load_n", d.map(|d| d.mean_load_n.max.into()));
+        put(
+            "ensemble_not_trusted_runs",
+            d.map(|d| d.not_trusted_runs.into()),
+        );
+    }
 }
 
 /// The tolerance the sweep view reads off for the user, as `crush study convergence` does.
@@ -253,9 +351,14 @@ impl Convergence {
 
 /// The other swept values of a job, as one string: the runs that differ only in resolution.
 fn group_key(fields: &[String], values: &Value) -> String {
+    key_without(fields, values, RESOLUTION_FIELD)
+}
+
+/// The swept values other than `left_out`, sorted, as one string.
+fn key_without(fields: &[String], values: &Value, left_out: &str) -> String {
     let mut parts: Vec<String> = fields
         .iter()
-        .filter(|f| *f != RESOLUTION_FIELD)
+        .filter(|f| *f != left_out)
         .map(|f| format!("{f}={}", values.get(f).unwrap_or(&Value::Null)))
         .collect();
     parts.sort();
@@ -285,6 +388,13 @@ impl SweepView {
         if convergence.is_some() {
             columns.extend(ERROR_COLUMNS.iter().map(|s| s.to_string()));
         }
+        let ensemble = fields
+            .iter()
+            .any(|f| f == SEED_FIELD)
+            .then(|| ensembles(&fields, jobs));
+        if ensemble.is_some() {
+            columns.extend(ENSEMBLE_COLUMNS.iter().map(|s| s.to_string()));
+        }
         let rows = jobs
             .iter()
             .map(|j| {
@@ -302,11 +412,18 @@ impl SweepView {
                 if let Some(c) = &convergence {
                     c.fill(j, &mut row);
                 }
+                if let Some(groups) = &ensemble {
+                    let key = values_key(&fields, j, SEED_FIELD);
+                    if let Some(g) = groups.iter().find(|g| g.group == key) {
+                        g.fill(&mut row);
+                    }
+                }
                 row
             })
             .collect();
         SweepView {
             convergence: convergence.map(|c| c.groups.into_iter().map(GroupView::new).collect()),
+            ensemble,
             id: s.id,
             label: s.label.clone(),
             created_at: rfc3339(s.created_at),
@@ -340,12 +457,21 @@ mod tests {
     use super::*;
 
     /// Where a sweep-table column's name is in the summary's JSON: a top-level number, a number
-    /// of `cost`, or an object's `kind` (the mode).
-    fn json_field<'a>(summary: &'a Value, name: &str) -> Option<&'a Value> {
+    /// of `cost`, an object's `kind` (the mode) or `level` (the verdict), or the verdict's rules
+    /// in one line.
+    fn json_field(summary: &Value, name: &str) -> Option<Value> {
+        if name == "verdict_reasons" {
+            let rules: Vec<&str> = summary["verdict"]["reasons"]
+                .as_array()?
+                .iter()
+                .map(|r| r["rule"].as_str().unwrap())
+                .collect();
+            return Some(rules.join(" ").into());
+        }
         match summary.get(name) {
-            Some(Value::Object(o)) => o.get("kind"),
-            Some(v) => Some(v),
-            None => summary.get("cost")?.get(name),
+            Some(Value::Object(o)) => o.get("kind").or_else(|| o.get("level")).cloned(),
+            Some(v) => Some(v.clone()),
+            None => summary.get("cost")?.get(name).cloned(),
         }
     }
 
@@ -355,13 +481,16 @@ mod tests {
         let mut s = crate::service::store::sample_summary();
         s.cost.particle_steps_per_s = 8.25e6;
         s.cost.threads = 7;
+        s.verdict = Some(crate::solver::analysis::verdict::Verdict::unstable(
+            "a blow-up",
+        ));
         let json = serde_json::to_value(&s).unwrap();
         let mut names = std::collections::HashSet::new();
         for n in TableNumber::ALL {
             assert!(names.insert(n.name()), "{} twice", n.name());
             let field = json_field(&json, n.name())
                 .unwrap_or_else(|| panic!("the summary has no field {}", n.name()));
-            assert_eq!(&n.of(&s), field, "{}", n.name());
+            assert_eq!(n.of(&s), field, "{}", n.name());
         }
     }
 

@@ -1,5 +1,6 @@
 //! What a case will cost before it runs: particles, cells, steps, memory, wall time.
 
+use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
 use serde::{Deserialize, Serialize};
 
@@ -51,6 +52,9 @@ pub struct Estimate {
     /// it, and at what cost.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reduced: Option<Reduced>,
+    /// The verdict as far as the case alone tells it: the run's own may add reasons its
+    /// numbers show (energy books, inertia), never take these away.
+    pub verdict: Verdict,
 }
 
 /// What the reduced model would cost against 3D, and what it cannot show.
@@ -130,5 +134,6 @@ fn cost(case: &Case, threads: u32) -> Estimate {
         threads,
         shape: case.shape_choice().clone(),
         reduced: None,
+        verdict: Verdict::of(foreseen(case)),
     }
 }

@@ -11,3 +11,4 @@ pub mod mode;
 pub mod peaks;
 pub mod reference;
 pub mod summary;
+pub mod verdict;

@@ -5,6 +5,7 @@ use super::folds::count_folds;
 use super::mode::{detect_mode, CollapseMode, ModeDetail};
 use super::peaks::Peaks;
 use super::reference::{references, References};
+use super::verdict::{self, Verdict};
 use crate::solver::engine::history::HistoryRow;
 use crate::solver::engine::{RunCost, Snapshot};
 use crate::solver::model::case::{Case, LoadingMode, ShapeChoice};
@@ -40,6 +41,10 @@ pub struct Summary {
     /// Absent only from summaries stored before the default depended on the wall.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape: Option<ShapeChoice>,
+    /// How far to trust the result, with every reason ([`super::verdict`]). Absent only from
+    /// summaries stored before there were verdicts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
 }
 
 /// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
@@ -96,7 +101,7 @@ pub fn summarize(
     } else {
         0.0
     };
-    let summary = Summary {
+    let mut summary = Summary {
         mean_load_n,
         peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
         energy_absorbed_mj,
@@ -113,7 +118,9 @@ pub fn summarize(
         references: references(case),
         cost,
         shape: Some(case.shape_choice().clone()),
+        verdict: None,
     };
+    summary.verdict = Some(verdict::of_run(case, &summary));
     (summary, mode_detail)
 }
 

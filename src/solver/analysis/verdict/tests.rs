@@ -1,0 +1,168 @@
+//! Each rule of the verdict triggered, and left quiet, by the case or the numbers it reads.
+
+use super::*;
+use crate::solver::model::case::Limits;
+use crate::solver::{run, Case};
+use std::sync::atomic::AtomicBool;
+
+fn case(json: &str) -> Case {
+    Case::from_json(json, &Limits::default()).unwrap()
+}
+
+fn rules(reasons: &[Reason]) -> Vec<(Rule, Level)> {
+    reasons.iter().map(|r| (r.rule, r.level)).collect()
+}
+
+/// A summary of the paper's case with the two numbers the run-time rules read.
+fn summary(energy_balance_error: f64, kinetic_to_internal: f64) -> Summary {
+    let mut s = crate::solver::summarize(
+        &case("{}"),
+        &[],
+        &crate::solver::Snapshot::default(),
+        Default::default(),
+    )
+    .0;
+    s.energy_balance_error = energy_balance_error;
+    s.kinetic_to_internal = kinetic_to_internal;
+    s
+}
+
+#[test]
+fn too_few_particles_through_the_wall_is_not_trusted_at_one_and_caution_below_four() {
+    let at = |n: u32| {
+        let c = case(&format!(
+            r#"{{"discretization": {{"particles_through_thickness": {n}}}}}"#
+        ));
+        rules(&foreseen(&c))
+            .into_iter()
+            .filter(|(r, _)| *r == Rule::ThinResolution)
+            .map(|(_, l)| l)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(at(1), [Level::NotTrusted]);
+    assert_eq!(at(2), [Level::Caution]);
+    assert_eq!(at(3), [Level::Caution]);
+    assert_eq!(at(4), []);
+}
+
+#[test]
+fn a_crush_shorter_than_one_fold_is_caution_in_an_axial_crush_only() {
+    // The paper's tube: 2H = 2√(π · 22.2 · 3.2 / (2√3)) = 16.06 mm.
+    let c = case("{}");
+    assert!(
+        (fold_length_mm(&c) - 16.06).abs() < 0.01,
+        "{}",
+        fold_length_mm(&c)
+    );
+    let short = case(r#"{"loading": {"crush_distance_mm": 15}}"#);
+    assert!(rules(&foreseen(&short)).contains(&(Rule::TooShortToFold, Level::Caution)));
+    let long = case(r#"{"loading": {"crush_distance_mm": 17}}"#);
+    assert!(!rules(&foreseen(&long))
+        .iter()
+        .any(|r| r.0 == Rule::TooShortToFold));
+    let lateral = case(r#"{"loading": {"mode": "lateral", "crush_distance_mm": 2}}"#);
+    assert!(!rules(&foreseen(&lateral))
+        .iter()
+        .any(|r| r.0 == Rule::TooShortToFold));
+}
+
+#[test]
+fn a_thin_triggered_3d_tube_has_a_seed_sensitive_mode_and_a_thick_or_untriggered_one_not() {
+    let thin = r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32},
+                   "trigger": {"weak_fraction": 0.003}}"#;
+    assert!(rules(&foreseen(&case(thin))).contains(&(Rule::SeedSensitiveMode, Level::Caution)));
+    let untriggered = r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32}}"#;
+    let thick = r#"{"trigger": {"weak_fraction": 0.003}}"#;
+    for quiet in [untriggered, thick] {
+        assert!(
+            !rules(&foreseen(&case(quiet)))
+                .iter()
+                .any(|r| r.0 == Rule::SeedSensitiveMode),
+            "{quiet}"
+        );
+    }
+}
+
+#[test]
+fn the_energy_balance_is_caution_above_2_percent_and_not_trusted_above_5() {
+    let c = case("{}");
+    let level = |e: f64| {
+        rules(&of_run(&c, &summary(e, 0.0)).reasons)
+            .into_iter()
+            .find(|(r, _)| *r == Rule::EnergyBalance)
+            .map(|(_, l)| l)
+    };
+    assert_eq!(level(0.019), None);
+    assert_eq!(level(0.021), Some(Level::Caution));
+    assert_eq!(level(0.051), Some(Level::NotTrusted));
+}
+
+#[test]
+fn kinetic_energy_above_5_percent_of_the_internal_is_not_quasi_static() {
+    let c = case("{}");
+    let level = |k: f64| {
+        rules(&of_run(&c, &summary(0.0, k)).reasons)
+            .into_iter()
+            .find(|(r, _)| *r == Rule::NotQuasiStatic)
+            .map(|(_, l)| l)
+    };
+    assert_eq!(level(0.04), None);
+    assert_eq!(level(0.06), Some(Level::Caution));
+    assert_eq!(level(0.3), Some(Level::NotTrusted));
+}
+
+#[test]
+fn a_blow_up_is_not_trusted_and_the_verdict_is_its_worst_reason() {
+    let v = Verdict::unstable("kinetic energy exceeds the work done by the plates");
+    assert_eq!(v.level, Level::NotTrusted);
+    assert_eq!(v.reasons[0].rule, Rule::Unstable);
+    assert!(v.reasons[0].detail.contains("kinetic energy"));
+    assert_eq!(Verdict::of(vec![]).level, Level::Trusted);
+    let c = case(r#"{"discretization": {"particles_through_thickness": 3}}"#);
+    assert_eq!(of_run(&c, &summary(0.06, 0.0)).level, Level::NotTrusted);
+    assert_eq!(of_run(&c, &summary(0.0, 0.0)).level, Level::Caution);
+}
+
+/// A smoke-test case: one particle through an 8 mm tube's wall, 1 mm of crush at 20 m/s. It
+/// gives a mean load near 18 kN with its books open by about 17 %: it must come out not trusted,
+/// with each reason named.
+#[test]
+fn the_one_particle_8_mm_tube_crushed_1_mm_is_not_trusted_with_its_reasons() {
+    let c = case(
+        r#"{"tube": {"thickness_mm": 3.2, "mean_diameter_mm": 22.2, "length_mm": 8},
+            "discretization": {"particles_through_thickness": 1},
+            "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20},
+            "output": {"history_points": 20}}"#,
+    );
+    let out = run(&c, &mut (), &AtomicBool::new(false)).unwrap();
+    let v = out.summary.verdict.clone().unwrap();
+    assert_eq!(v.level, Level::NotTrusted);
+    let named: Vec<Rule> = v.reasons.iter().map(|r| r.rule).collect();
+    for rule in [Rule::ThinResolution, Rule::TooShortToFold] {
+        assert!(named.contains(&rule), "{named:?}");
+    }
+    assert!(
+        named.contains(&Rule::EnergyBalance) || named.contains(&Rule::NotQuasiStatic),
+        "{named:?}: energy {} kinetic {}",
+        out.summary.energy_balance_error,
+        out.summary.kinetic_to_internal
+    );
+}
+
+#[test]
+fn a_failed_run_is_not_trusted_only_when_it_blew_up() {
+    let blow_up = crate::solver::engine::SolveError::Unstable {
+        step: 12,
+        time_ms: 0.5,
+        what: "a non-finite velocity at particle 3".into(),
+    };
+    let v = of_failure(&blow_up.to_string()).unwrap();
+    assert_eq!(v.level, Level::NotTrusted);
+    assert_eq!(v.reasons[0].rule, Rule::Unstable);
+    assert!(
+        v.reasons[0].detail.contains("particle 3"),
+        "{}",
+        v.reasons[0].detail
+    );
+    assert_eq!(of_failure("the store failed: disk full"), None);
+}
