@@ -8,6 +8,7 @@ import { refreshJobList } from "./list.js";
 function summaryTable(s) {
   const rows = [
     ["Mean collapse load", kN(s.mean_load_n)],
+    ...(s.error_bar ? [["Error bar (mean load)", errorBarText(s.error_bar)]] : []),
     ["Peak load", kN(s.peak_load_n)],
     ["Energy absorbed", fmt(s.energy_absorbed_mj / 1000) + " J"],
     ["Crush distance", fmt(s.crush_distance_mm) + " mm"],
@@ -22,6 +23,15 @@ function summaryTable(s) {
     ["Wall time", seconds(s.cost.wall_time_s) + ` (${fmt(s.cost.particle_steps_per_s / 1e6)} M particle-steps/s, ${s.cost.threads} threads)`],
   ];
   return el("table", { id: "summary" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", { class: "num" }, v)))));
+}
+
+// The mean load's error bar: where the converged load lies and so how far off this run is.
+function errorBarText(b) {
+  if (b.basis !== "reduced_ladder") return el("span", { id: "error-bar", class: "small" }, `none: ${b.why}`);
+  const p = (x) => (x === null || x === undefined ? "?" : `${x >= 0 ? "+" : ""}${(100 * x).toFixed(1)} %`);
+  return el("span", { id: "error-bar", title: b.covers },
+    `converged ${kN(b.low_n)} – ${kN(b.high_n)}; this run ${p(b.error)} (${p(b.error_low)} to ${p(b.error_high)}), ` +
+    `from its ${b.model.replace("_", " ")} section at n = ${b.rungs.map((r) => r.n).join(", ")} (${seconds(b.cost_s)})`);
 }
 
 // Where the plates' work went (summary.energy, absent in summaries stored before it existed).

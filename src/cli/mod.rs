@@ -32,6 +32,10 @@ pub struct RunArgs {
     /// Refuse cases with more tube particles than this.
     #[arg(long, default_value_t = crate::solver::Limits::default().max_particles)]
     pub max_particles: u64,
+    /// Price the mean load's error bar after the run (the tube's section at three
+    /// resolutions), as the case's `output.error_bar` does.
+    #[arg(long)]
+    pub error_bar: bool,
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! The text a finished run prints: loads in kN, energy in J, the collapse mode with its reason,
 //! the closed-form references with the ratio of our mean load to the primary one, and the cost.
 
+use crate::solver::analysis::error_bar::ErrorBar;
 use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::model::case::LoadingMode;
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
@@ -55,6 +56,32 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         r.primary.name(),
         kn(r.primary_n)
     );
+    match &s.error_bar {
+        Some(ErrorBar::ReducedLadder(l)) => {
+            let _ = writeln!(
+                o,
+                "  error bar        converged mean load in [{}, {}], best {}: this run {:+.1} %                  ({:+.1} .. {} %)",
+                kn(l.low_n),
+                kn(l.high_n),
+                kn(l.estimate_n),
+                100.0 * l.error,
+                100.0 * l.error_low,
+                l.error_high
+                    .map_or_else(|| "?".to_string(), |e| format!("{:+.1}", 100.0 * e))
+            );
+            let _ = writeln!(
+                o,
+                "                   {}; cost {:.1} s ({:.0} % of the run)",
+                l.covers,
+                l.cost_s,
+                100.0 * l.cost_fraction
+            );
+        }
+        Some(ErrorBar::Unavailable { why }) => {
+            let _ = writeln!(o, "  error bar        none: {why}");
+        }
+        None => {}
+    }
     let _ = writeln!(o, "  peak load        {}", kn(s.peak_load_n));
     let _ = writeln!(
         o,
@@ -232,6 +259,7 @@ mod tests {
             },
             shape: Some(case.shape_choice().clone()),
             verdict: None,
+            error_bar: None,
         }
     }
 

@@ -76,6 +76,13 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     observer.bar().finish_and_clear();
 
     let history_path = out_dir.join("history.csv");
+    let result = result.and_then(|mut output| {
+        if args.error_bar || case.spec().output.error_bar {
+            eprintln!("pricing the mean load's error bar (its section at three resolutions)");
+            runner.add_error_bar(&case, &mut output, &cancel)?;
+        }
+        Ok(output)
+    });
     let output = match result {
         Ok(output) => output,
         Err(e) => {

@@ -328,7 +328,12 @@ impl Workers {
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
             let from = from.map(|(_, _, from)| from);
-            let out = runner.resume(&case, from, &mut observer, &cancel);
+            let out = runner
+                .resume(&case, from, &mut observer, &cancel)
+                .and_then(|mut out| {
+                    runner.add_error_bar_if_asked(&case, &mut out, &cancel)?;
+                    Ok(out)
+                });
             // The sink goes with the observer: the writer stores what it has and ends.
             (out, observer.job.publisher)
         })

@@ -3,7 +3,9 @@
 //! was given whatever else the process runs, and its results do not depend on them (every sum
 //! of a step runs in a fixed order).
 
+use super::analysis::error_bar::{self, ErrorBar};
 use super::engine::scene::Scene;
+use super::model::case::Model;
 use super::{Case, Observer, Resume, RunOutput, SolveError};
 use std::sync::atomic::AtomicBool;
 
@@ -74,6 +76,59 @@ impl Runner {
             change(&mut scene);
             super::run_scene(case, scene, observer, cancel)
         })
+    }
+
+    /// The run's error bar ([`error_bar`]) when its case asks for it (`output.error_bar`): its
+    /// reduced twin run at the ladder's resolutions on the pool, or why there is none; stored
+    /// in the output's summary.
+    pub fn add_error_bar_if_asked(
+        &self,
+        case: &Case,
+        out: &mut RunOutput,
+        cancel: &AtomicBool,
+    ) -> Result<(), SolveError> {
+        if case.spec().output.error_bar {
+            self.add_error_bar(case, out, cancel)?;
+        }
+        Ok(())
+    }
+
+    /// The run's error bar whether or not the case asked for it (see
+    /// [`Runner::add_error_bar_if_asked`]).
+    pub fn add_error_bar(
+        &self,
+        case: &Case,
+        out: &mut RunOutput,
+        cancel: &AtomicBool,
+    ) -> Result<(), SolveError> {
+        let bar = match error_bar::ladder(case, &out.summary) {
+            Err(why) => ErrorBar::Unavailable { why },
+            Ok(rungs) => {
+                let mut done = Vec::with_capacity(rungs.len());
+                let mut model = None;
+                for (n, twin) in rungs {
+                    let (mean, wall) = match twin {
+                        Some(twin) => {
+                            model = Some(twin.spec().discretization.model);
+                            let r = self.run(&twin, &mut (), cancel)?;
+                            (r.summary.mean_load_n, r.summary.cost.wall_time_s)
+                        }
+                        None => (out.summary.mean_load_n, out.summary.cost.wall_time_s),
+                    };
+                    done.push(error_bar::Rung {
+                        n,
+                        mean_load_n: mean,
+                        wall_time_s: wall,
+                    });
+                }
+                let three_d = case.spec().discretization.model == Model::ThreeD;
+                let model = model.unwrap_or(case.spec().discretization.model);
+                let n = case.spec().discretization.particles_through_thickness;
+                error_bar::from_rungs(model, done, &out.summary, n, three_d)
+            }
+        };
+        out.summary.error_bar = Some(bar);
+        Ok(())
     }
 
     /// Anything else on the pool (the bench's timed steps).

@@ -124,3 +124,60 @@ fn run_writes_its_files_and_leaves_out_the_state_when_asked() {
         }
     }
 }
+
+/// `crush run` of the paper's section at n = 8 over 5 mm of crush, asked for its error bar:
+/// the ladder is the run itself and its section at n = 12 and 16, each rung's mean load is the
+/// one a separate run at that n gives, and the interval holds the rungs' extrapolation or
+/// their spread about the finest rung.
+#[test]
+fn run_prices_the_error_bar_with_rungs_that_are_runs_of_their_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = |n: u32, error_bar: bool| {
+        serde_json::json!({
+            "loading": {"crush_distance_mm": 5},
+            "discretization": {"model": "axisymmetric", "particles_through_thickness": n},
+            "output": {"history_points": 50, "final_state": false, "error_bar": error_bar}
+        })
+    };
+    let run = |name: &str, case: serde_json::Value| -> serde_json::Value {
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, case.to_string()).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+            .args(["run", "--threads", "1", "--out"])
+            .arg(dir.path().join(name))
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(dir.path().join(name).join("summary.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let s = run("n8", case(8, true));
+    let bar = &s["error_bar"];
+    assert_eq!(bar["basis"], "reduced_ladder", "{bar}");
+    let rungs: Vec<(u64, f64)> = bar["rungs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["n"].as_u64().unwrap(), r["mean_load_n"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(rungs.iter().map(|r| r.0).collect::<Vec<_>>(), [8, 12, 16]);
+    assert_eq!(rungs[0].1, s["mean_load_n"].as_f64().unwrap());
+    let twelve = run("n12", case(12, false));
+    assert_eq!(rungs[1].1, twelve["mean_load_n"].as_f64().unwrap());
+    assert!(twelve.get("error_bar").is_none(), "not asked for");
+    let (low, high) = (
+        bar["low_n"].as_f64().unwrap(),
+        bar["high_n"].as_f64().unwrap(),
+    );
+    let estimate = bar["estimate_n"].as_f64().unwrap();
+    assert!(low < estimate && estimate < high, "{bar}");
+    // The finest rung is never outside the interval: the half-width includes its distance to
+    // the estimate.
+    assert!(low <= rungs[2].1 && rungs[2].1 <= high, "{bar}");
+    assert!(bar["cost_s"].as_f64().unwrap() > 0.0);
+}

@@ -452,6 +452,9 @@ pub(crate) fn sample_summary() -> crate::solver::Summary {
     summary.crush_distance_mm = 21.5;
     summary.folds = 3;
     summary.energy_balance_error = 0.0125;
+    summary.error_bar = Some(crate::solver::analysis::error_bar::ErrorBar::Unavailable {
+        why: "a sample".into(),
+    });
     summary
 }
 

