@@ -160,6 +160,7 @@ mod tests {
                 energy_balance_error: 0.0,
                 energy: Default::default(),
                 kinetic_to_internal: 0.0,
+                longest_unloaded_mm: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),
                 cost: RunCost::default(),
