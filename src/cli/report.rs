@@ -70,8 +70,9 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     );
     let _ = writeln!(
         o,
-        "                   centre-line drift {:.2} mm (global above {:.2} mm)",
-        detail.max_drift_mm, detail.drift_threshold_mm
+        "                   centre-line drift {:.2} mm, {:.2} mm from the line through its ends \
+         (global above {:.2} mm)",
+        detail.max_drift_mm, detail.bend_mm, detail.drift_threshold_mm
     );
     let _ = writeln!(
         o,

@@ -22,10 +22,14 @@
 //!    flattened shows radial displacements larger than its drift; one that tipped over and lies
 //!    across the plates moves both ends, so only the distance from the axis shows it: the
 //!    t = 1.27, d = 10 example at n = 4 had 4.9 mm from the end line but 30 mm from the axis).
-//!    It is **tipped over** when an end has left its plate — its ring stands on edge, its mean
-//!    height above the tube's extreme point at that end more than [`END_LIFT_FRACTION`] · d (a
-//!    ring turned 30° about its lowest point) — and **global buckling** (the column bent, both
-//!    ends on the plates) otherwise;
+//!    It is **tipped over** when the tube turned as a whole: an end has left its plate — its
+//!    ring stands on edge, its mean height above the tube's extreme point at that end more than
+//!    [`END_LIFT_FRACTION`] · d (a ring turned 30° about its lowest point) — and the centre line
+//!    is still straight (no slice centroid more than [`DRIFT_FRACTION`] · d from the line
+//!    through the end slices' centroids: the drift is the ends' own, they slid across the
+//!    plates). It is **global buckling** otherwise: the column bent, its ends on the plates or
+//!    turned by the bend (a column bent far turns its end rings too, so the lift alone cannot
+//!    tell a bend from a fall);
 //! 2. **ring** when the mean harmonic-0 amplitude over the folded slices is at least the largest
 //!    mean amplitude among harmonics 2..8;
 //! 3. otherwise **diamond**, with lobes = the harmonic in 2..8 of largest mean amplitude.
@@ -58,8 +62,9 @@ pub enum CollapseMode {
     GlobalBuckling,
     /// Lateral loading: the tube was flattened across a diameter.
     Flattening,
-    /// The whole tube tipped over between the plates: its centre line left the axis and an end
-    /// left its plate (it stands on the edge of its ring, or the tube lies on its side).
+    /// The whole tube tipped over between the plates: its centre line left the axis but stayed
+    /// straight, and an end left its plate (it stands on the edge of its ring, or the tube lies
+    /// on its side).
     TippedOver,
 }
 
@@ -111,6 +116,10 @@ pub struct ModeDetail {
     /// Largest lateral drift of a slice centroid, from the end slices' line or from the original
     /// axis, whichever is larger, mm.
     pub max_drift_mm: Real,
+    /// Largest distance of a slice centroid from the line through the end slices' centroids,
+    /// mm: how far the column bent (a tube that turned as a whole has little).
+    #[serde(default)]
+    pub bend_mm: Real,
     /// Drift beyond which the column counts as bowed (DRIFT_FRACTION · d), mm.
     pub drift_threshold_mm: Real,
     /// How far each end's ring (bottom, top: the particle layer at the end before the crush)
@@ -217,7 +226,8 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             *a = used.iter().map(|s| s.amplitude(m)).sum::<Real>() / used.len() as Real;
         }
     }
-    detail.max_drift_mm = max_drift(&slices).max(max_axis_offset(&slices));
+    detail.bend_mm = max_drift(&slices);
+    detail.max_drift_mm = detail.bend_mm.max(max_axis_offset(&slices));
     detail.end_lift_mm = end_lifts(snapshot, axes, case.spacing_mm());
     detail.end_lift_threshold_mm = END_LIFT_FRACTION * d;
 
@@ -239,12 +249,16 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     if detail.max_drift_mm > detail.drift_threshold_mm {
         let [bottom, top] = detail.end_lift_mm;
         let left = bottom.max(top) > detail.end_lift_threshold_mm;
+        let bent = detail.bend_mm > detail.drift_threshold_mm;
         detail.reason = format!(
-            "centre line drifted {:.2} mm (> {:.2} mm; largest fold amplitude {:.2} mm); \
-             the ends' rings stand {bottom:.2} and {top:.2} mm off their plates ({} {:.2} mm)",
+            "centre line drifted {:.2} mm (> {:.2} mm; largest fold amplitude {:.2} mm), \
+             {:.2} mm from the line through its ends ({}); the ends' rings stand {bottom:.2} \
+             and {top:.2} mm off their plates ({} {:.2} mm)",
             detail.max_drift_mm,
             detail.drift_threshold_mm,
             max_fold,
+            detail.bend_mm,
+            if bent { "bent" } else { "straight" },
             if left {
                 "an end left its plate: >"
             } else {
@@ -252,7 +266,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             },
             detail.end_lift_threshold_mm
         );
-        let mode = match left {
+        let mode = match left && !bent {
             true => CollapseMode::TippedOver,
             false => CollapseMode::GlobalBuckling,
         };

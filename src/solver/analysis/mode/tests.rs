@@ -170,6 +170,7 @@ fn a_tube_lying_on_its_side_is_tipped_over_not_global_buckling() {
     });
     let (mode, detail) = detect_mode(&case, &snap);
     assert_eq!(mode, CollapseMode::TippedOver, "{detail:?}");
+    assert!(detail.bend_mm < 0.01, "{detail:?}");
     // Each end's ring stands (d/2)·sin 60° above (below) its lowest (highest) point, the
     // outermost particle's centre at (d + t − h)/2: (11.1 + 1.2)·0.866 = 10.65 mm.
     for lift in detail.end_lift_mm {
@@ -180,6 +181,37 @@ fn a_tube_lying_on_its_side_is_tipped_over_not_global_buckling() {
         "{}",
         detail.reason
     );
+}
+
+/// A column bent far (a half-sine bow of 15 mm between pinned ends, each section turned square
+/// to the centre line) turns its end rings by 32°, past the lift threshold, as the d = 10
+/// tube on sticking plates did at 50 mm of crush: it bent, it did not fall, so it is global
+/// buckling.
+#[test]
+fn a_column_bent_far_enough_to_turn_its_ends_is_global_buckling_not_tipped_over() {
+    let case = axial_case();
+    let l = case.spec().tube.length_mm;
+    let bow = 15.0;
+    let snap = tube(&case, |z, th, r| {
+        let slope = (bow * PI / l * (PI * z / l).cos()).atan();
+        let (sin, cos) = slope.sin_cos();
+        let across = r * th.cos();
+        [
+            bow * (PI * z / l).sin() + across * cos,
+            r * th.sin(),
+            z - across * sin,
+        ]
+    });
+    let (mode, detail) = detect_mode(&case, &snap);
+    assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
+    assert!(
+        detail
+            .end_lift_mm
+            .iter()
+            .all(|&e| e > detail.end_lift_threshold_mm),
+        "{detail:?}"
+    );
+    assert!(detail.bend_mm > 14.0, "{detail:?}");
 }
 
 #[test]
