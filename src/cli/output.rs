@@ -159,6 +159,7 @@ mod tests {
                 energy: Default::default(),
                 kinetic_to_internal: 0.0,
                 verdict: None,
+                longest_unloaded_mm: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),
                 cost: RunCost::default(),
