@@ -160,6 +160,7 @@ mod tests {
                 kinetic_to_internal: 0.0,
                 verdict: None,
                 error_bar: None,
+                longest_unloaded_mm: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),
                 cost: RunCost::default(),

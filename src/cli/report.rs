@@ -3,6 +3,7 @@
 
 use crate::solver::analysis::error_bar::ErrorBar;
 use crate::solver::analysis::mode::ModeDetail;
+use crate::solver::analysis::summary::UNLOADED_FRACTION;
 use crate::solver::model::case::LoadingMode;
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
@@ -108,8 +109,15 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     );
     let _ = writeln!(
         o,
-        "                   centre-line drift {:.2} mm (global above {:.2} mm)",
-        detail.max_drift_mm, detail.drift_threshold_mm
+        "                   centre-line drift {:.2} mm, {:.2} mm from the line through its ends \
+         (global above {:.2} mm)",
+        detail.max_drift_mm, detail.bend_mm, detail.drift_threshold_mm
+    );
+    let _ = writeln!(
+        o,
+        "                   end rings {:.2} (bottom) and {:.2} mm (top) off their plates \
+         (left above {:.2} mm)",
+        detail.end_lift_mm[0], detail.end_lift_mm[1], detail.end_lift_threshold_mm
     );
     let _ = writeln!(
         o,
@@ -134,6 +142,12 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         o,
         "  E_kin / E_int    {:.2} % at most over the second half",
         100.0 * s.kinetic_to_internal
+    );
+    let _ = writeln!(
+        o,
+        "  unloaded         {:.2} mm of travel at most with the load below {:.0} % of its peak",
+        s.longest_unloaded_mm,
+        100.0 * UNLOADED_FRACTION
     );
     let _ = writeln!(o);
     let _ = writeln!(
@@ -213,6 +227,7 @@ pub fn mode_name(mode: CollapseMode) -> String {
         CollapseMode::Diamond { lobes } => format!("diamond, {lobes} lobes"),
         CollapseMode::GlobalBuckling => "global (Euler) buckling".into(),
         CollapseMode::Flattening => "lateral flattening".into(),
+        CollapseMode::TippedOver => "tipped over between the plates".into(),
     }
 }
 
@@ -249,6 +264,7 @@ mod tests {
             energy_balance_error: 0.0123,
             energy: Default::default(),
             kinetic_to_internal: 0.004,
+            longest_unloaded_mm: 0.0,
             mode,
             references: references(case),
             cost: RunCost {

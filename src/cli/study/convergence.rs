@@ -76,6 +76,7 @@ fn mode_name(m: &CollapseMode) -> String {
         CollapseMode::Diamond { lobes } => format!("diamond {lobes}"),
         CollapseMode::GlobalBuckling => "global".into(),
         CollapseMode::Flattening => "flattening".into(),
+        CollapseMode::TippedOver => "tipped over".into(),
     }
 }
 

@@ -16,19 +16,33 @@
 //! left to the drift test.
 //!
 //! Decision (axial loading), in this order:
-//! 1. **global buckling** when the largest drift of a slice centroid — from the straight line
+//! 1. a **global** collapse when the largest drift of a slice centroid — from the straight line
 //!    through the end slices' centroids, or from the original axis, whichever is larger —
 //!    exceeds [`DRIFT_FRACTION`] · d, whatever the folds did (a tube that tipped over and was
 //!    flattened shows radial displacements larger than its drift; one that tipped over and lies
 //!    across the plates moves both ends, so only the distance from the axis shows it: the
-//!    t = 1.27, d = 10 example at n = 4 had 4.9 mm from the end line but 30 mm from the axis);
+//!    t = 1.27, d = 10 example at n = 4 had 4.9 mm from the end line but 30 mm from the axis).
+//!    It is **tipped over** when the tube turned as a whole: an end has left its plate — its
+//!    ring stands on edge, its mean height above the tube's extreme point at that end more than
+//!    [`END_LIFT_FRACTION`] · d (a ring turned 30° about its lowest point) — and the centre line
+//!    is still straight (no slice centroid more than [`DRIFT_FRACTION`] · d from the line
+//!    through the end slices' centroids: the drift is the ends' own, they slid across the
+//!    plates). It is **global buckling** otherwise: the column bent, its ends on the plates or
+//!    turned by the bend (a column bent far turns its end rings too, so the lift alone cannot
+//!    tell a bend from a fall);
 //! 2. **ring** when the mean harmonic-0 amplitude over the folded slices is at least the largest
 //!    mean amplitude among harmonics 2..8;
 //! 3. otherwise **diamond**, with lobes = the harmonic in 2..8 of largest mean amplitude.
 //!
-//! Folded slices are those whose RMS radial displacement is at least [`FOLDED_FRACTION`] of the
-//! largest slice RMS and at least [`FOLDED_MIN_T`] · t; if none is, every slice is used (a tube
-//! that did not fold reads as ring, and the detail says so). Lateral loading is always
+//! Folded slices are those whose wall has turned: in at least [`TURNED_SHARE`] of the
+//! [`SECTORS`] sectors around the axis, the wall line through the slice (the sector's current
+//! centroid in the slice below and the slice above, taken about the slices' own centroids) runs
+//! more than 45° from the axis, or back on itself; and whose RMS radial displacement is at least
+//! [`FOLDED_MIN_T`] · t. A fold turns its wall by up to 180°; a tube that is oval, or bowed, or
+//! bulged but not folded keeps its wall lines near the axis, however large its radial
+//! displacement, and its slices do not count (an oval unfolded part would otherwise outvote the
+//! lobes of the folds). If no slice is folded, every slice is used (a tube that did not fold
+//! reads as ring, and the detail says so). Lateral loading is always
 //! [`CollapseMode::Flattening`]; its detail is computed the same way about the x axis.
 
 use crate::solver::engine::Snapshot;
@@ -48,6 +62,10 @@ pub enum CollapseMode {
     GlobalBuckling,
     /// Lateral loading: the tube was flattened across a diameter.
     Flattening,
+    /// The whole tube tipped over between the plates: its centre line left the axis but stayed
+    /// straight, and an end left its plate (it stands on the edge of its ring, or the tube lies
+    /// on its side).
+    TippedOver,
 }
 
 impl CollapseMode {
@@ -59,6 +77,7 @@ impl CollapseMode {
             CollapseMode::Diamond { .. } => "diamond",
             CollapseMode::GlobalBuckling => "global_buckling",
             CollapseMode::Flattening => "flattening",
+            CollapseMode::TippedOver => "tipped_over",
         }
     }
 }
@@ -67,10 +86,17 @@ impl CollapseMode {
 pub const MAX_HARMONIC: usize = 8;
 /// Centre-line drift, as a fraction of the mean diameter, beyond which the column counts as bowed.
 pub const DRIFT_FRACTION: Real = 0.5;
-/// A slice is folded when its RMS radial displacement reaches this share of the largest slice's.
-pub const FOLDED_FRACTION: Real = 0.25;
-/// ... and at least this many wall thicknesses.
+/// A slice is folded when its wall line has turned more than 45° from the axis (lateral change
+/// over axial change above 1) in at least this share of its sectors ...
+pub const TURNED_SHARE: Real = 0.25;
+/// ... and its RMS radial displacement is at least this many wall thicknesses.
 pub const FOLDED_MIN_T: Real = 0.25;
+/// Sectors around the axis, by the initial angle, in which the wall lines are followed: 22.5°,
+/// as in the fold counter.
+pub const SECTORS: usize = 16;
+/// An end has left its plate when its ring's mean height above the tube's extreme point at that
+/// end exceeds this share of the width d: a ring turned by 30° about its lowest point.
+pub const END_LIFT_FRACTION: Real = 0.25;
 /// Fewest particles a slice needs to resolve harmonic 8 (Nyquist: 2·8 + 1).
 const MIN_PER_SLICE: usize = 2 * MAX_HARMONIC + 1;
 /// Most slices along the tube.
@@ -90,8 +116,20 @@ pub struct ModeDetail {
     /// Largest lateral drift of a slice centroid, from the end slices' line or from the original
     /// axis, whichever is larger, mm.
     pub max_drift_mm: Real,
+    /// Largest distance of a slice centroid from the line through the end slices' centroids,
+    /// mm: how far the column bent (a tube that turned as a whole has little).
+    #[serde(default)]
+    pub bend_mm: Real,
     /// Drift beyond which the column counts as bowed (DRIFT_FRACTION · d), mm.
     pub drift_threshold_mm: Real,
+    /// How far each end's ring (bottom, top: the particle layer at the end before the crush)
+    /// stands, on average, above the tube's extreme point at that end (below it, at the top),
+    /// mm: about 0 for an end flat on its plate.
+    #[serde(default)]
+    pub end_lift_mm: [Real; 2],
+    /// Lift beyond which an end has left its plate (END_LIFT_FRACTION · d), mm.
+    #[serde(default)]
+    pub end_lift_threshold_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
 }
@@ -106,6 +144,10 @@ struct Slice {
     /// Σ w cos(mθ), Σ w sin(mθ) for m = 0..=8.
     cos_sum: [Real; MAX_HARMONIC + 1],
     sin_sum: [Real; MAX_HARMONIC + 1],
+    /// Per sector of the initial angle: particles, and the sum of their current (axial,
+    /// lateral a, lateral b) coordinates.
+    sector_count: [u32; SECTORS],
+    sector_sum: [[Real; 3]; SECTORS],
 }
 
 impl Slice {
@@ -126,6 +168,12 @@ impl Slice {
     }
     fn axial(&self) -> Real {
         self.axial_sum / self.count as Real
+    }
+    /// Sector `s`'s current centroid (axial, lateral a, lateral b), if it holds particles.
+    fn sector(&self, s: usize) -> Option<[Real; 3]> {
+        let n = self.sector_count[s] as Real;
+        let c = &self.sector_sum[s];
+        (n > 0.0).then(|| [c[0] / n, c[1] / n, c[2] / n])
     }
     /// Largest ring or lobe amplitude (harmonics 0 and 2..8).
     fn fold_amplitude(&self) -> Real {
@@ -161,10 +209,11 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     let slices = slice_up(snapshot, &section, axes, case.spacing_mm(), &mut detail);
     detail.slices = slices.len() as u32;
 
-    let max_rms = slices.iter().map(Slice::rms).fold(0.0, Real::max);
     let folded: Vec<&Slice> = slices
         .iter()
-        .filter(|s| s.rms() >= (FOLDED_FRACTION * max_rms).max(FOLDED_MIN_T * t))
+        .zip(turned_shares(&slices))
+        .filter(|(s, turned)| *turned >= TURNED_SHARE && s.rms() >= FOLDED_MIN_T * t)
+        .map(|(s, _)| s)
         .collect();
     let used: Vec<&Slice> = if folded.is_empty() {
         slices.iter().collect()
@@ -177,7 +226,10 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             *a = used.iter().map(|s| s.amplitude(m)).sum::<Real>() / used.len() as Real;
         }
     }
-    detail.max_drift_mm = max_drift(&slices).max(max_axis_offset(&slices));
+    detail.bend_mm = max_drift(&slices);
+    detail.max_drift_mm = detail.bend_mm.max(max_axis_offset(&slices));
+    detail.end_lift_mm = end_lifts(snapshot, axes, case.spacing_mm());
+    detail.end_lift_threshold_mm = END_LIFT_FRACTION * d;
 
     if geometry.mode == LoadingMode::Lateral {
         detail.reason = "lateral loading: the tube is flattened across a diameter".into();
@@ -195,11 +247,30 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     // over and was flattened has radial displacements larger than its drift (seen on the
     // t = 1.27, d = 12 example, which was first misread as a ring).
     if detail.max_drift_mm > detail.drift_threshold_mm {
+        let [bottom, top] = detail.end_lift_mm;
+        let left = bottom.max(top) > detail.end_lift_threshold_mm;
+        let bent = detail.bend_mm > detail.drift_threshold_mm;
         detail.reason = format!(
-            "centre line drifted {:.2} mm (> {:.2} mm; largest fold amplitude {:.2} mm)",
-            detail.max_drift_mm, detail.drift_threshold_mm, max_fold
+            "centre line drifted {:.2} mm (> {:.2} mm; largest fold amplitude {:.2} mm), \
+             {:.2} mm from the line through its ends ({}); the ends' rings stand {bottom:.2} \
+             and {top:.2} mm off their plates ({} {:.2} mm)",
+            detail.max_drift_mm,
+            detail.drift_threshold_mm,
+            max_fold,
+            detail.bend_mm,
+            if bent { "bent" } else { "straight" },
+            if left {
+                "an end left its plate: >"
+            } else {
+                "both on them: <="
+            },
+            detail.end_lift_threshold_mm
         );
-        return (CollapseMode::GlobalBuckling, detail);
+        let mode = match left && !bent {
+            true => CollapseMode::TippedOver,
+            false => CollapseMode::GlobalBuckling,
+        };
+        return (mode, detail);
     }
     let amp = &detail.harmonic_amplitude_mm;
     let (lobes, lobe_amp) = (2..=MAX_HARMONIC)
@@ -232,27 +303,38 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
 
 /// The detail of an axisymmetric run's section (positions (r, 0, z)), which can fold only as a
 /// ring: per material slice one spacing thick, the mean radial displacement is harmonic 0; the
-/// other harmonics and the drift are zero by the model's symmetry.
+/// other harmonics and the drift are zero by the model's symmetry. A slice is folded as in 3D:
+/// its wall line (the mean (r, z) of the slice below to that of the slice above) runs more than
+/// 45° from the axis, and its RMS radial displacement reaches [`FOLDED_MIN_T`] · t.
 fn axisymmetric_detail(case: &Case, snapshot: &Snapshot, mut detail: ModeDetail) -> ModeDetail {
     let h = case.spacing_mm();
     let t = case.geometry().section.thickness_mm();
-    let mut slices: Vec<(usize, Real, Real)> = Vec::new();
+    /// Particles, Σ w, Σ w², Σ r, Σ z of one material slice.
+    #[derive(Clone, Copy, Default)]
+    struct Ring(usize, Real, Real, Real, Real);
+    let mut slices: Vec<Ring> = Vec::new();
     for (x0, x) in snapshot.initial_mm.iter().zip(&snapshot.position_mm) {
         let k = (x0[2] / h).floor().max(0.0) as usize;
         if slices.len() <= k {
-            slices.resize(k + 1, (0, 0.0, 0.0));
+            slices.resize(k + 1, Ring::default());
         }
         let w = x[0] - x0[0];
-        slices[k].0 += 1;
-        slices[k].1 += w;
-        slices[k].2 += w * w;
+        let s = &mut slices[k];
+        *s = Ring(s.0 + 1, s.1 + w, s.2 + w * w, s.3 + x[0], s.4 + x[2]);
     }
     slices.retain(|s| s.0 > 0);
-    let rms = |s: &(usize, Real, Real)| (s.2 / s.0 as Real).sqrt();
-    let max_rms = slices.iter().map(rms).fold(0.0, Real::max);
-    let folded: Vec<_> = slices
-        .iter()
-        .filter(|s| rms(s) >= (FOLDED_FRACTION * max_rms).max(FOLDED_MIN_T * t))
+    let mean = |s: &Ring| [s.3 / s.0 as Real, s.4 / s.0 as Real];
+    let last = slices.len().saturating_sub(1);
+    let folded: Vec<&Ring> = (0..slices.len())
+        .filter(|&k| {
+            let (a, b) = (
+                mean(&slices[k.saturating_sub(1)]),
+                mean(&slices[(k + 1).min(last)]),
+            );
+            let s = &slices[k];
+            (b[0] - a[0]).abs() > b[1] - a[1] && (s.2 / s.0 as Real).sqrt() >= FOLDED_MIN_T * t
+        })
+        .map(|k| &slices[k])
         .collect();
     let used = if folded.is_empty() {
         slices.iter().collect()
@@ -307,6 +389,12 @@ fn slice_up(
         s.centroid_sum[0] += p[la];
         s.centroid_sum[1] += p[lb];
         s.w_sq_sum += w * w;
+        let turn = theta / std::f64::consts::TAU + 0.5;
+        let sector = ((turn * SECTORS as Real) as usize).min(SECTORS - 1);
+        s.sector_count[sector] += 1;
+        for (sum, v) in s.sector_sum[sector].iter_mut().zip([p[ax], p[la], p[lb]]) {
+            *sum += v;
+        }
         for m in 0..=MAX_HARMONIC {
             let (sin, cos) = (m as Real * theta).sin_cos();
             s.cos_sum[m] += w * cos;
@@ -315,6 +403,65 @@ fn slice_up(
     }
     slices.retain(|s| s.count >= MIN_PER_SLICE);
     slices
+}
+
+/// Per slice, the share of its sectors whose wall line has turned more than 45° from the tube's
+/// axis: the line from the sector's centroid in the slice below to the one in the slice above
+/// (the slice itself at the ends), each taken about its slice's centroid so that a bowed or
+/// shifted centre line does not count, changes more sideways than along the axis, or runs back.
+fn turned_shares(slices: &[Slice]) -> Vec<Real> {
+    let last = slices.len().saturating_sub(1);
+    (0..slices.len())
+        .map(|k| {
+            let (a, b) = (&slices[k.saturating_sub(1)], &slices[(k + 1).min(last)]);
+            let (ca, cb) = (a.centroid(), b.centroid());
+            let (mut seen, mut turned) = (0u32, 0u32);
+            for s in 0..SECTORS {
+                let (Some(pa), Some(pb)) = (a.sector(s), b.sector(s)) else {
+                    continue;
+                };
+                let along = pb[0] - pa[0];
+                let across =
+                    ((pb[1] - cb[0]) - (pa[1] - ca[0])).hypot((pb[2] - cb[1]) - (pa[2] - ca[1]));
+                seen += 1;
+                turned += u32::from(across > along);
+            }
+            match seen {
+                0 => 0.0,
+                _ => turned as Real / seen as Real,
+            }
+        })
+        .collect()
+}
+
+/// How far each end's ring — the particles of the layer at that end before the crush, found
+/// by their initial axial coordinate within half a spacing `h` of the end — stands on average
+/// from the tube's extreme point at that end (its lowest point for the bottom end, its highest
+/// for the top), mm, as (bottom, top). An end flat on its plate lifts about 0; a ring turned
+/// by α about its lowest point lifts (d/2)·sin α; the end of a tube lying on its side, more.
+fn end_lifts(snapshot: &Snapshot, [ax, ..]: [usize; 3], h: Real) -> [Real; 2] {
+    let pairs = || {
+        snapshot
+            .initial_mm
+            .iter()
+            .zip(&snapshot.position_mm)
+            .filter(|(p0, p)| p0[ax].is_finite() && p[ax].is_finite())
+    };
+    let (mut lo0, mut hi0, mut lo, mut hi) = (Real::MAX, Real::MIN, Real::MAX, Real::MIN);
+    for (p0, p) in pairs() {
+        (lo0, hi0) = (lo0.min(p0[ax]), hi0.max(p0[ax]));
+        (lo, hi) = (lo.min(p[ax]), hi.max(p[ax]));
+    }
+    let mut sums = [(0.0, 0usize); 2];
+    for (p0, p) in pairs() {
+        if p0[ax] <= lo0 + 0.5 * h {
+            sums[0] = (sums[0].0 + p[ax] - lo, sums[0].1 + 1);
+        }
+        if p0[ax] >= hi0 - 0.5 * h {
+            sums[1] = (sums[1].0 + hi - p[ax], sums[1].1 + 1);
+        }
+    }
+    sums.map(|(sum, n)| if n > 0 { sum / n as Real } else { 0.0 })
 }
 
 /// Largest distance of a slice centroid from the line joining the end slices' centroids,
@@ -351,189 +498,4 @@ fn max_axis_offset(slices: &[Slice]) -> Real {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::solver::Limits;
-    use std::f64::consts::PI;
-
-    /// The default tube (t 3.2, d 22.2, l 76.2, n 4 → h 0.8) laid out as the scene does, along z.
-    fn axial_case() -> Case {
-        Case::from_json("{}", &Limits::default()).unwrap()
-    }
-
-    /// A lattice of the case's tube, each particle moved by `deform(z, θ, r) -> (x, y, z)`.
-    fn tube(case: &Case, deform: impl Fn(Real, Real, Real) -> [Real; 3]) -> Snapshot {
-        let spec = case.spec();
-        let (t, d, l) = (
-            spec.tube.thickness_mm,
-            spec.tube.mean_diameter_mm,
-            spec.tube.length_mm,
-        );
-        let h = case.spacing_mm();
-        let n = spec.discretization.particles_through_thickness;
-        let mut snap = Snapshot::default();
-        for j in 0..n {
-            let r = d / 2.0 - t / 2.0 + (j as Real + 0.5) * h;
-            let around = (2.0 * PI * r / h).round() as usize;
-            for k in 0..(l / h).round() as usize {
-                let z = (k as Real + 0.5) * h;
-                for i in 0..around {
-                    let th = 2.0 * PI * i as Real / around as Real;
-                    snap.initial_mm.push([r * th.cos(), r * th.sin(), z]);
-                    snap.position_mm.push(deform(z, th, r));
-                }
-            }
-        }
-        snap.plastic_strain = vec![0.0; snap.initial_mm.len()];
-        snap
-    }
-
-    /// Moves a particle radially by w.
-    fn radial(z: Real, th: Real, r: Real, w: Real) -> [Real; 3] {
-        [(r + w) * th.cos(), (r + w) * th.sin(), z]
-    }
-
-    #[test]
-    fn axisymmetric_folds_are_ring() {
-        let case = axial_case();
-        // w = 2 sin(2πz/12): λ = 12 mm folds, no θ dependence.
-        let snap = tube(&case, |z, th, r| {
-            radial(z, th, r, 2.0 * (2.0 * PI * z / 12.0).sin())
-        });
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::Ring, "{detail:?}");
-        assert!(detail.harmonic_amplitude_mm[0] > 1.0, "{detail:?}");
-        assert!(
-            detail.harmonic_amplitude_mm[2..].iter().all(|&a| a < 0.01),
-            "{detail:?}"
-        );
-        assert!(detail.max_drift_mm < 1e-6, "{detail:?}");
-        assert!(
-            detail.folded_slices > 0 && detail.folded_slices < detail.slices,
-            "{detail:?}"
-        );
-    }
-
-    #[test]
-    fn three_lobe_folds_are_diamond_3() {
-        let case = axial_case();
-        let snap = tube(&case, |z, th, r| {
-            radial(
-                z,
-                th,
-                r,
-                2.0 * (3.0 * th).cos() * (2.0 * PI * z / 12.0).sin(),
-            )
-        });
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::Diamond { lobes: 3 }, "{detail:?}");
-        let a = &detail.harmonic_amplitude_mm;
-        assert!(
-            a[3] > 10.0 * a[0] && a[3] > 10.0 * a[2] && a[3] > 10.0 * a[4],
-            "{detail:?}"
-        );
-    }
-
-    #[test]
-    fn four_lobes_with_some_ring_content_are_diamond_4() {
-        let case = axial_case();
-        let snap = tube(&case, |z, th, r| {
-            let s = (2.0 * PI * z / 12.0).sin();
-            radial(z, th, r, (0.5 + 2.0 * (4.0 * th).cos()) * s)
-        });
-        assert_eq!(
-            detect_mode(&case, &snap).0,
-            CollapseMode::Diamond { lobes: 4 }
-        );
-    }
-
-    #[test]
-    fn a_bowed_column_is_global_buckling() {
-        let case = axial_case();
-        let l = case.spec().tube.length_mm;
-        // Centre line bowed by B = 15 mm (> 0.5 d = 11.1 mm) at mid-length, section unchanged.
-        let snap = tube(&case, |z, th, r| {
-            [r * th.cos() + 15.0 * (PI * z / l).sin(), r * th.sin(), z]
-        });
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
-        // The end slices sit 0.5 mm off the axis, so the drift from their line is about 14.5 mm.
-        assert!((detail.max_drift_mm - 15.0).abs() < 1.0, "{detail:?}");
-    }
-
-    /// A tube that tipped over and lies across the plates (sections shifted along a straight
-    /// tilted line, the ends 30 mm either side of the axis) has no drift from its end slices'
-    /// line at all; the distance from the original axis shows the collapse. (The t = 1.27,
-    /// d = 10 example at n = 4 did this.)
-    #[test]
-    fn a_tube_that_tipped_over_is_global_buckling() {
-        let case = axial_case();
-        let l = case.spec().tube.length_mm;
-        let snap = tube(&case, |z, th, r| {
-            let lean = 30.0 * (2.0 * z / l - 1.0);
-            [r * th.cos() + lean, r * th.sin(), z]
-        });
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
-        assert!((detail.max_drift_mm - 30.0).abs() < 2.0, "{detail:?}");
-    }
-
-    #[test]
-    fn a_small_bow_with_ring_folds_stays_ring() {
-        let case = axial_case();
-        let l = case.spec().tube.length_mm;
-        let snap = tube(&case, |z, th, r| {
-            let [x, y, z] = radial(z, th, r, 2.0 * (2.0 * PI * z / 12.0).sin());
-            [x + 3.0 * (PI * z / l).sin(), y, z]
-        });
-        assert_eq!(detect_mode(&case, &snap).0, CollapseMode::Ring);
-    }
-
-    #[test]
-    fn an_undeformed_tube_reads_ring_and_says_so() {
-        let case = axial_case();
-        let snap = tube(&case, |z, th, r| radial(z, th, r, 0.0));
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::Ring);
-        assert_eq!(detail.folded_slices, 0);
-        assert!(
-            detail.reason.contains("no slice folded"),
-            "{}",
-            detail.reason
-        );
-    }
-
-    #[test]
-    fn empty_snapshot_does_not_panic() {
-        let (mode, detail) = detect_mode(&axial_case(), &Snapshot::default());
-        assert_eq!(mode, CollapseMode::Ring);
-        assert_eq!(detail.slices, 0);
-    }
-
-    #[test]
-    fn lateral_loading_is_flattening_with_an_oval_section() {
-        let case =
-            Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
-        // Axis x; the section squashed in z and widened in y: w ≈ −2 cos(2θ) about x.
-        let axial = tube(&case, |z, th, r| radial(z, th, r, -2.0 * (2.0 * th).cos()));
-        let snap = Snapshot {
-            initial_mm: axial
-                .initial_mm
-                .iter()
-                .map(|p| [p[2], p[0], p[1]])
-                .collect(),
-            position_mm: axial
-                .position_mm
-                .iter()
-                .map(|p| [p[2], p[0], p[1]])
-                .collect(),
-            plastic_strain: axial.plastic_strain,
-        };
-        let (mode, detail) = detect_mode(&case, &snap);
-        assert_eq!(mode, CollapseMode::Flattening);
-        assert!(
-            (detail.harmonic_amplitude_mm[2] - 2.0).abs() < 1e-6,
-            "{detail:?}"
-        );
-    }
-}
+mod tests;

@@ -35,6 +35,11 @@ pub struct Summary {
     pub energy: EnergyBooks,
     /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
     pub kinetic_to_internal: f64,
+    /// The longest stretch of plate travel over which the load on the moving plate stayed
+    /// below [`UNLOADED_FRACTION`] of the peak load: the tube lost its hold on the plate (it
+    /// tipped over, or floats between the plates), mm. See [`longest_unloaded_mm`].
+    #[serde(default)]
+    pub longest_unloaded_mm: f64,
     pub mode: CollapseMode,
     pub references: References,
     pub cost: RunCost,
@@ -86,6 +91,9 @@ impl EnergyBooks {
 /// A load drop counts when it reaches this fraction of the running mean load.
 pub const LOAD_DROP_FRACTION: f64 = 0.15;
 
+/// The load on the moving plate below which it counts as unloaded, as a share of the peak load.
+pub const UNLOADED_FRACTION: f64 = 0.01;
+
 /// Rows whose external work is below this share of its final value are left out of the energy
 /// balance error (dividing by almost nothing says nothing).
 pub const ENERGY_BALANCE_FROM: f64 = 0.01;
@@ -119,6 +127,7 @@ pub fn summarize(
         energy_balance_error: energy_balance_error(history),
         energy: history.last().map(EnergyBooks::of).unwrap_or_default(),
         kinetic_to_internal: kinetic_to_internal(history),
+        longest_unloaded_mm: longest_unloaded_mm(history),
         mode,
         references: references(case),
         cost,
@@ -213,6 +222,23 @@ pub fn energy_balance_error(history: &[HistoryRow]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The longest stretch of plate travel between two history rows whose load on the moving plate,
+/// and that of every row between them, is below [`UNLOADED_FRACTION`] of the peak load, mm; 0
+/// when no two consecutive rows are unloaded.
+pub fn longest_unloaded_mm(history: &[HistoryRow]) -> f64 {
+    let peak = history.iter().map(|r| r.load_top_n).fold(0.0, f64::max);
+    let (mut longest, mut since) = (0.0, None);
+    for r in history {
+        if r.load_top_n < UNLOADED_FRACTION * peak {
+            let start = *since.get_or_insert(r.displacement_mm);
+            longest = f64::max(longest, r.displacement_mm - start);
+        } else {
+            since = None;
+        }
+    }
+    longest
+}
+
 /// Largest E_kin / E_int over the second half of the crush (rows with E_int > 0).
 pub fn kinetic_to_internal(history: &[HistoryRow]) -> f64 {
     let half = 0.5 * history.last().map_or(0.0, |r| r.displacement_mm);
@@ -235,6 +261,7 @@ mod tests {
             CollapseMode::Diamond { lobes: 3 },
             CollapseMode::GlobalBuckling,
             CollapseMode::Flattening,
+            CollapseMode::TippedOver,
         ] {
             let json = serde_json::to_value(mode).unwrap();
             assert_eq!(json["kind"], mode.kind(), "{mode:?}");
@@ -310,6 +337,28 @@ mod tests {
             .collect();
         assert!((energy_absorbed(&h) - 5000.0).abs() < 1e-9);
         assert_eq!(energy_absorbed(&[]), 0.0);
+    }
+
+    /// What it measures: the tube of the t = 1.27, d = 10 example tipped over and the load fell
+    /// to zero from 15 mm of crush on, with brief touches; the longest stretch without load runs
+    /// from the first unloaded row after a touch to the last one before the next.
+    #[test]
+    fn a_load_that_falls_to_zero_shows_its_longest_unloaded_stretch() {
+        let mut h = curve(&[(0.0, 0.0), (1.0, 2000.0), (15.0, 1500.0)], 0.1, 50.0);
+        // Unloaded from 15.1 to 26 (10.9 mm), a touch of 300 N at 26.1–27, unloaded again from
+        // 27.1 to 41 (13.9 mm).
+        h.extend((151..=410).map(|i| {
+            let u = i as f64 * 0.1;
+            row(u, if (261..=270).contains(&i) { 300.0 } else { 0.0 })
+        }));
+        assert!(
+            (longest_unloaded_mm(&h) - 13.9).abs() < 1e-9,
+            "{}",
+            longest_unloaded_mm(&h)
+        );
+        // A load that never falls below 1 % of its peak has none, nor has an empty history.
+        assert_eq!(longest_unloaded_mm(&curve(&TEETH, 0.1, 5.0)), 0.0);
+        assert_eq!(longest_unloaded_mm(&[]), 0.0);
     }
 
     #[test]
