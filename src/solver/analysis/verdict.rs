@@ -4,6 +4,7 @@
 //! of its reasons (no reason: trusted). Some rules can be told before a run
 //! ([`foreseen`]: the form warns with them); the others need its numbers ([`of_run`]).
 
+use super::mode::CollapseMode;
 use super::summary::Summary;
 use crate::solver::model::case::{Case, LoadingMode, Model};
 use serde::{Deserialize, Serialize};
@@ -54,6 +55,10 @@ pub enum Rule {
     SeedSensitiveMode,
     /// The run stopped on a blow-up.
     Unstable,
+    /// The tube tipped over between the plates instead of folding or bending.
+    TippedOver,
+    /// The load fell to zero over a stretch of the crush: the tube floated between the plates.
+    Unloaded,
 }
 
 impl Rule {
@@ -66,6 +71,8 @@ impl Rule {
             Rule::TooShortToFold => "too_short_to_fold",
             Rule::SeedSensitiveMode => "seed_sensitive_mode",
             Rule::Unstable => "unstable",
+            Rule::TippedOver => "tipped_over",
+            Rule::Unloaded => "unloaded",
         }
     }
 }
@@ -186,9 +193,32 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
     reasons
 }
 
+/// The longest stretch of plate travel with no load on the plate before a crush is marked
+/// not trusted, mm: the plates close steadily, so a tube in contact carries load all the way;
+/// one millimetre allows for the contact settling at the start.
+pub const UNLOADED_NOT_TRUSTED_MM: f64 = 1.0;
+
 /// The verdict of a finished run: the foreseen reasons and those its numbers show.
 pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
     let mut reasons = foreseen(case);
+    if summary.mode == CollapseMode::TippedOver {
+        reasons.push(Reason {
+            rule: Rule::TippedOver,
+            level: Level::NotTrusted,
+            detail: "the tube tipped over: an end left its plate while the tube stayed                      straight, a rigid rotation rather than a collapse; its mean load says                      nothing of the tube (plates with friction hold the ends: docs/folding.md)"
+                .into(),
+        });
+    }
+    if summary.longest_unloaded_mm > UNLOADED_NOT_TRUSTED_MM {
+        reasons.push(Reason {
+            rule: Rule::Unloaded,
+            level: Level::NotTrusted,
+            detail: format!(
+                "the load stayed under 1 % of its peak over {:.1} mm of plate travel: the                  tube was not held between the plates there",
+                summary.longest_unloaded_mm
+            ),
+        });
+    }
     let e = summary.energy_balance_error;
     if e > BALANCE_CAUTION {
         reasons.push(Reason {

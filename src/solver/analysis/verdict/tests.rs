@@ -166,3 +166,24 @@ fn a_failed_run_is_not_trusted_only_when_it_blew_up() {
     );
     assert_eq!(of_failure("the store failed: disk full"), None);
 }
+
+#[test]
+fn a_tube_that_tipped_over_or_floated_between_the_plates_is_not_trusted() {
+    let c = case("{}");
+    let mut s = summary(0.0, 0.0);
+    assert_eq!(of_run(&c, &s).level, Level::Trusted);
+    s.mode = CollapseMode::TippedOver;
+    let v = of_run(&c, &s);
+    assert_eq!(rules(&v.reasons), [(Rule::TippedOver, Level::NotTrusted)]);
+    let mut s = summary(0.0, 0.0);
+    s.longest_unloaded_mm = 0.9;
+    assert_eq!(of_run(&c, &s).level, Level::Trusted);
+    s.longest_unloaded_mm = 20.5;
+    let v = of_run(&c, &s);
+    assert_eq!(rules(&v.reasons), [(Rule::Unloaded, Level::NotTrusted)]);
+    assert!(
+        v.reasons[0].detail.contains("20.5 mm"),
+        "{}",
+        v.reasons[0].detail
+    );
+}
