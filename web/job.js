@@ -7,8 +7,14 @@ import { loadFields } from "./form.js";
 function summaryTable(s) {
   const rows = [
     ["Mean collapse load", kN(s.mean_load_n)],
-    ["Peak load", kN(s.peak_load_n)],
+    ["Peak load (largest, whole crush)", kN(s.peak_load_n)],
+    ["First collapse peak", s.first_peak_load_n == null ? "– (the load never drops)" : `${kN(s.first_peak_load_n)} at ${fmt(s.first_peak_displacement_mm)} mm`],
+    ["Mean load after it", s.mean_load_after_first_peak_n == null ? "–" : kN(s.mean_load_after_first_peak_n)],
+    ["Crush-force efficiency", s.crush_force_efficiency == null ? "–" : fmt(s.crush_force_efficiency)],
     ["Energy absorbed", fmt(s.energy_absorbed_mj / 1000) + " J"],
+    ["Dissipated (plastic + friction)", s.energy_dissipated_mj == null ? "–" : fmt(s.energy_dissipated_mj / 1000) + " J"],
+    ["Tube mass", s.tube_mass_g == null ? "–" : fmt(s.tube_mass_g) + " g"],
+    ["Specific energy absorption", s.specific_energy_absorption_j_per_g == null ? "–" : fmt(s.specific_energy_absorption_j_per_g) + " J/g"],
     ["Crush distance", fmt(s.crush_distance_mm) + " mm"],
     ["Collapse mode", modeName(s.mode)],
     ["Folds (from the shape)", s.folds],

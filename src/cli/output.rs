@@ -159,6 +159,7 @@ mod tests {
                 load_drops: 0,
                 energy_balance_error: 0.0,
                 energy: Default::default(),
+                measures: Default::default(),
                 kinetic_to_internal: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),

@@ -43,11 +43,37 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         r.primary.name(),
         kn(r.primary_n)
     );
-    let _ = writeln!(o, "  peak load        {}", kn(s.peak_load_n));
     let _ = writeln!(
         o,
-        "  energy absorbed  {:.3} J",
-        s.energy_absorbed_mj / 1000.0
+        "  peak load        {}   (the largest, over the whole crush)",
+        kn(s.peak_load_n)
+    );
+    let m = &s.measures;
+    match (m.first_peak_load_n, m.first_peak_displacement_mm) {
+        (Some(p), Some(u)) => {
+            let _ = writeln!(o, "  first peak       {}   at {u:.2} mm", kn(p));
+        }
+        _ => {
+            let _ = writeln!(o, "  first peak       none (the load never drops)");
+        }
+    }
+    if let (Some(after), Some(cfe)) = (m.mean_load_after_first_peak_n, m.crush_force_efficiency) {
+        let _ = writeln!(
+            o,
+            "  mean after it    {}   crush-force efficiency {cfe:.2}",
+            kn(after)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "  energy absorbed  {:.3} J   ({:.3} J dissipated: plastic + friction)",
+        s.energy_absorbed_mj / 1000.0,
+        m.energy_dissipated_mj / 1000.0
+    );
+    let _ = writeln!(
+        o,
+        "  tube mass        {:.2} g   specific energy absorption {:.3} J/g",
+        m.tube_mass_g, m.specific_energy_absorption_j_per_g
     );
     let _ = writeln!(o, "  crush distance   {:.2} mm", s.crush_distance_mm);
     let _ = writeln!(
@@ -209,6 +235,7 @@ mod tests {
             load_drops: 0,
             energy_balance_error: 0.0123,
             energy: Default::default(),
+            measures: Default::default(),
             kinetic_to_internal: 0.004,
             mode,
             references: references(case),

@@ -23,11 +23,16 @@ pub enum TableNumber {
     Steps,
     WallTime,
     ParticleStepsPerS,
+    FirstPeak,
+    MeanAfterFirstPeak,
+    CrushForceEfficiency,
+    SpecificEnergyAbsorption,
+    TubeMass,
 }
 
 impl TableNumber {
     /// Every number, in column order.
-    pub const ALL: [TableNumber; 10] = [
+    pub const ALL: [TableNumber; 15] = [
         TableNumber::MeanLoad,
         TableNumber::PeakLoad,
         TableNumber::EnergyAbsorbed,
@@ -38,6 +43,11 @@ impl TableNumber {
         TableNumber::Steps,
         TableNumber::WallTime,
         TableNumber::ParticleStepsPerS,
+        TableNumber::FirstPeak,
+        TableNumber::MeanAfterFirstPeak,
+        TableNumber::CrushForceEfficiency,
+        TableNumber::SpecificEnergyAbsorption,
+        TableNumber::TubeMass,
     ];
 
     /// The column's name.
@@ -53,6 +63,11 @@ impl TableNumber {
             TableNumber::Steps => "steps",
             TableNumber::WallTime => "wall_time_s",
             TableNumber::ParticleStepsPerS => "particle_steps_per_s",
+            TableNumber::FirstPeak => "first_peak_load_n",
+            TableNumber::MeanAfterFirstPeak => "mean_load_after_first_peak_n",
+            TableNumber::CrushForceEfficiency => "crush_force_efficiency",
+            TableNumber::SpecificEnergyAbsorption => "specific_energy_absorption_j_per_g",
+            TableNumber::TubeMass => "tube_mass_g",
         }
     }
 
@@ -69,6 +84,13 @@ impl TableNumber {
             TableNumber::Steps => s.cost.steps.into(),
             TableNumber::WallTime => s.cost.wall_time_s.into(),
             TableNumber::ParticleStepsPerS => s.cost.particle_steps_per_s.into(),
+            TableNumber::FirstPeak => s.measures.first_peak_load_n.into(),
+            TableNumber::MeanAfterFirstPeak => s.measures.mean_load_after_first_peak_n.into(),
+            TableNumber::CrushForceEfficiency => s.measures.crush_force_efficiency.into(),
+            TableNumber::SpecificEnergyAbsorption => {
+                s.measures.specific_energy_absorption_j_per_g.into()
+            }
+            TableNumber::TubeMass => s.measures.tube_mass_g.into(),
         }
     }
 }
