@@ -156,6 +156,29 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         r.deruntz_hodge_mean_n,
     );
     line(&mut o, "Euler, clamped ends", Some(r.euler_clamped_n));
+    let m = &r.metal;
+    line(
+        &mut o,
+        "Abramowicz-Jones, static",
+        Some(m.abramowicz_jones_n),
+    );
+    line(
+        &mut o,
+        "Abramowicz-Jones, dynamic",
+        m.abramowicz_jones_dynamic_n,
+    );
+    let fit = if m.guillow_in_range {
+        "Guillow 6060-T5 fit, static"
+    } else {
+        "Guillow fit (d/t outside 10-450)"
+    };
+    line(&mut o, fit, Some(m.guillow_n));
+    line(&mut o, "Guillow 6060-T5 fit, dynamic", m.guillow_dynamic_n);
+    let _ = writeln!(
+        o,
+        "  (metal forms: flow stress {:.1} MPa, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
+        m.flow_stress_mpa, m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
+    );
     let _ = writeln!(o);
     let _ = writeln!(
         o,
