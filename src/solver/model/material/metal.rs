@@ -66,6 +66,9 @@ impl Metal {
     /// f(Δ) = q − 3G Δ − s σ_s(ε_p + Δ) R(Δ/dt), which decreases in Δ. Newton's step where it
     /// stays inside the bracket that holds the root, the bracket's middle where it does not.
     pub fn plastic_increment(&self, q: Real, strain: Real, dt: Real, scale: Real) -> Real {
+        if let Rate::CowperSymonds { d, inverse_q } = self.rate {
+            return self.plastic_increment_cowper_symonds(q, strain, dt, scale, d, inverse_q);
+        }
         let three_g = 3.0 * self.shear;
         let start = q - self.flow(strain, 0.0, dt, scale).0;
         // Inside the surface (or a NaN trial, which must not flow).
@@ -96,6 +99,60 @@ impl Metal {
             }
         }
         x
+    }
+}
+
+impl Metal {
+    /// [`Metal::plastic_increment`] under Cowper–Symonds, solved for y = (ε̇_p / D)^(1/q)
+    /// instead of Δ = Δt D y^q: the rate factor 1 + y is steep in Δ near zero rate (its slope
+    /// is infinite there) but a line in y, so the residual
+    /// f(y) = q − 3G Δ(y) − s σ_s(ε_p + Δ(y)) (1 + y) is smooth and Newton's method converges
+    /// in a few steps. The same bracket and the same stopping rule.
+    fn plastic_increment_cowper_symonds(
+        &self,
+        q: Real,
+        strain: Real,
+        dt: Real,
+        scale: Real,
+        d: Real,
+        inverse_q: Real,
+    ) -> Real {
+        let three_g = 3.0 * self.shear;
+        let start = q - scale * self.hardening.at(strain).0;
+        if start.is_nan() || start <= 0.0 {
+            return 0.0;
+        }
+        let exponent = 1.0 / inverse_q;
+        let per_y = dt * d;
+        let increment = |y: Real| per_y * y.powf(exponent);
+        let (mut lo, mut hi) = (0.0, (start / three_g / per_y).powf(inverse_q));
+        let mut y = 0.0;
+        for _ in 0..MAX_ITERATIONS {
+            let x = increment(y);
+            let (static_stress, slope) = self.hardening.at(strain + x);
+            let f = q - three_g * x - scale * static_stress * (1.0 + y);
+            if f.abs() <= RESIDUAL * q {
+                return x;
+            }
+            if f > 0.0 {
+                lo = y;
+            } else {
+                hi = y;
+            }
+            // dΔ/dy = Δt D q y^(q−1), 0 at y = 0 for q > 1.
+            let dx = if y > 0.0 { exponent * x / y } else { 0.0 };
+            let slope_y = (three_g + scale * slope * (1.0 + y)) * dx + scale * static_stress;
+            let newton = y + f / slope_y;
+            y = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if hi - lo <= Real::EPSILON * hi {
+                break;
+            }
+        }
+        increment(y)
     }
 }
 
