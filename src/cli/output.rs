@@ -1,5 +1,6 @@
 //! The files `crush run` leaves behind, the same the server gives for a job: `history.csv`
 //! (one row per history point, columns [`HistoryRow::COLUMNS`]), `load.svg` (the load curve),
+//! `energy.svg` (the plates' work and the energy dissipated against the travel; the CLI only),
 //! `summary.json` (the summary plus the mode's diagnostics), and, when the case keeps the final
 //! state (`output.final_state`), `particles.csv`, `state.vtu` (for ParaView) and `shape.png`.
 
@@ -73,6 +74,36 @@ pub fn write_load_svg(path: &Path, case: &Case, out: &RunOutput) -> anyhow::Resu
         .iter()
         .map(|r| (r.displacement_mm, r.load_top_n));
     let svg = crate::plot::load_curve_svg(title, points, Some(out.summary.mean_load_n))?;
+    std::fs::write(path, svg).with_context(|| format!("writing {}", path.display()))
+}
+
+/// The energy against the plate's travel, as SVG: the plates' work and what the wall
+/// dissipated of it (plastic work plus friction), J.
+pub fn write_energy_svg(path: &Path, case: &Case, rows: &[HistoryRow]) -> anyhow::Result<()> {
+    let curve = |name: &str, f: fn(&HistoryRow) -> f64| crate::plot::Series {
+        name: name.into(),
+        points: rows
+            .iter()
+            .map(|r| (r.displacement_mm, f(r) / 1000.0))
+            .collect(),
+    };
+    let series = [
+        curve("work of the plates", |r| r.external_mj),
+        curve("dissipated: plastic + friction", |r| {
+            r.plastic_mj + r.friction_mj
+        }),
+    ];
+    let title = case
+        .spec()
+        .label
+        .as_deref()
+        .unwrap_or("energy against plate travel");
+    let svg = crate::plot::lines_svg(
+        (title, "plate travel, mm", "energy, J"),
+        &series,
+        &[],
+        false,
+    )?;
     std::fs::write(path, svg).with_context(|| format!("writing {}", path.display()))
 }
 
@@ -157,6 +188,7 @@ mod tests {
                 load_drops: 0,
                 energy_balance_error: 0.0,
                 energy: Default::default(),
+                measures: Default::default(),
                 kinetic_to_internal: 0.0,
                 verdict: None,
                 error_bar: None,

@@ -61,7 +61,7 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         Some(ErrorBar::ReducedLadder(l)) => {
             let _ = writeln!(
                 o,
-                "  error bar        converged mean load in [{}, {}], best {}: this run {:+.1} %                  ({:+.1} .. {} %)",
+                "  error bar        converged mean load in [{}, {}], best {}: this run {:+.1} % ({:+.1} .. {} %)",
                 kn(l.low_n),
                 kn(l.high_n),
                 kn(l.estimate_n),
@@ -83,11 +83,37 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         }
         None => {}
     }
-    let _ = writeln!(o, "  peak load        {}", kn(s.peak_load_n));
     let _ = writeln!(
         o,
-        "  energy absorbed  {:.3} J",
-        s.energy_absorbed_mj / 1000.0
+        "  peak load        {}   (the largest, over the whole crush)",
+        kn(s.peak_load_n)
+    );
+    let m = &s.measures;
+    match (m.first_peak_load_n, m.first_peak_displacement_mm) {
+        (Some(p), Some(u)) => {
+            let _ = writeln!(o, "  first peak       {}   at {u:.2} mm", kn(p));
+        }
+        _ => {
+            let _ = writeln!(o, "  first peak       none (the load never drops)");
+        }
+    }
+    if let (Some(after), Some(cfe)) = (m.mean_load_after_first_peak_n, m.crush_force_efficiency) {
+        let _ = writeln!(
+            o,
+            "  mean after it    {}   crush-force efficiency {cfe:.2}",
+            kn(after)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "  energy absorbed  {:.3} J   ({:.3} J dissipated: plastic + friction)",
+        s.energy_absorbed_mj / 1000.0,
+        m.energy_dissipated_mj / 1000.0
+    );
+    let _ = writeln!(
+        o,
+        "  tube mass        {:.2} g   specific energy absorption {:.3} J/g",
+        m.tube_mass_g, m.specific_energy_absorption_j_per_g
     );
     let _ = writeln!(o, "  crush distance   {:.2} mm", s.crush_distance_mm);
     let _ = writeln!(
@@ -183,6 +209,29 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         r.deruntz_hodge_mean_n,
     );
     line(&mut o, "Euler, clamped ends", Some(r.euler_clamped_n));
+    let m = &r.metal;
+    line(
+        &mut o,
+        "Abramowicz-Jones, static",
+        Some(m.abramowicz_jones_n),
+    );
+    line(
+        &mut o,
+        "Abramowicz-Jones, dynamic",
+        m.abramowicz_jones_dynamic_n,
+    );
+    let fit = if m.guillow_in_range {
+        "Guillow 6060-T5 fit, static"
+    } else {
+        "Guillow fit (d/t outside 10-450)"
+    };
+    line(&mut o, fit, Some(m.guillow_n));
+    line(&mut o, "Guillow 6060-T5 fit, dynamic", m.guillow_dynamic_n);
+    let _ = writeln!(
+        o,
+        "  (metal forms: flow stress {:.1} MPa, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
+        m.flow_stress_mpa, m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
+    );
     let _ = writeln!(o);
     let _ = writeln!(
         o,
@@ -263,6 +312,7 @@ mod tests {
             load_drops: 0,
             energy_balance_error: 0.0123,
             energy: Default::default(),
+            measures: Default::default(),
             kinetic_to_internal: 0.004,
             longest_unloaded_mm: 0.0,
             mode,

@@ -5,8 +5,8 @@
 //! What it prints and writes is the solver's own summary and mode detail: one source.
 
 use super::output::{
-    write_history_csv, write_load_svg, write_particles_csv, write_shape_png, write_state_vtu,
-    write_summary_json, SummaryFile,
+    write_energy_svg, write_history_csv, write_load_svg, write_particles_csv, write_shape_png,
+    write_state_vtu, write_summary_json, SummaryFile,
 };
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
@@ -108,6 +108,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     write_history_csv(&history_path, &output.history)?;
     let load_path = out_dir.join("load.svg");
     write_load_svg(&load_path, &case, &output)?;
+    let energy_path = out_dir.join("energy.svg");
+    write_energy_svg(&energy_path, &case, &output.history)?;
     let summary_path = out_dir.join("summary.json");
     let file = SummaryFile {
         label: case.spec().label.clone(),
@@ -115,7 +117,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         mode_detail: output.mode_detail.clone(),
     };
     write_summary_json(&summary_path, &file)?;
-    let mut written = vec![history_path, load_path, summary_path];
+    let mut written = vec![history_path, load_path, energy_path, summary_path];
     if case.spec().output.final_state {
         let particles_path = out_dir.join("particles.csv");
         write_particles_csv(&particles_path, &output.snapshot)?;

@@ -6,9 +6,11 @@
 //! limit) it leaves to the server, which it asks as the user types (`POST /v1/estimate`).
 //! A test below holds every bound here to what `Case::parse` accepts and refuses.
 
+use crate::solver::model::material::preset::Preset;
 use crate::solver::CaseSpec;
 use serde::Serialize;
 use serde_json::Value;
+use std::collections::BTreeMap;
 
 /// What kind of input a field takes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -19,6 +21,8 @@ pub enum Kind {
     Choice,
     Boolean,
     Text,
+    /// A list of [x, y] pairs (a hardening curve), typed as "x y" pairs separated by commas.
+    Curve,
 }
 
 /// One field of the form.
@@ -43,6 +47,10 @@ pub struct Field {
     /// May be left empty (the server then picks, as `help` says).
     pub optional: bool,
     pub help: &'static str,
+    /// For a material field: its value in each preset that sets it (preset name → value), so
+    /// that the form can show what a preset fills in.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub presets: BTreeMap<&'static str, Value>,
 }
 
 struct Spec {
@@ -103,11 +111,22 @@ const SPECS: &[Spec] = &[
     num("tube.thickness_mm", "Wall thickness t", "mm", POSITIVE, None, "Less than half the mean diameter."),
     num("tube.mean_diameter_mm", "Mean diameter d", "mm", POSITIVE, None, "Measured at the wall's mid-surface."),
     num("tube.length_mm", "Length l", "mm", POSITIVE, None, "Along the tube axis."),
-    other("material.model", "Material model", Kind::Choice, &["j2", "elastic"], "j2: elastic–perfectly plastic von Mises; elastic never yields."),
+    other("material.preset", "Material preset", Kind::Choice, &["pvc", "aa6060_t5", "aa6061_t6", "mild_steel"], "Fills every material field left as it is; empty: the paper's PVC. Sources: docs/materials.md."),
+    other("material.model", "Material model", Kind::Choice, &["j2", "elastic"], "j2: von Mises plasticity, perfectly plastic unless a hardening or rate law is set; elastic never yields."),
     num("material.youngs_modulus_mpa", "Young's modulus E", "MPa", POSITIVE, None, ""),
     num("material.poisson_ratio", "Poisson's ratio ν", "", Some((-0.99, false)), Some((0.4999, false)), ""),
-    num("material.yield_stress_mpa", "Yield stress σy", "MPa", POSITIVE, None, ""),
+    num("material.yield_stress_mpa", "Yield stress σy", "MPa", POSITIVE, None, "The flow stress at zero plastic strain and a static rate; with a curve, its first stress."),
     num("material.density_kg_m3", "Density ρ", "kg/m³", POSITIVE, None, ""),
+    other("material.hardening", "Hardening", Kind::Choice, &["none", "table", "swift", "ludwik"], "Empty: the preset's (none for PVC). table: the curve below; swift: K (ε₀ + εp)ⁿ from σy; ludwik: σy + K εpⁿ."),
+    other("material.hardening_curve", "Hardening curve", Kind::Curve, &[], "True stress against equivalent plastic strain, \"εp σ\" pairs separated by commas, from εp = 0 (at σy); strains increasing, stresses not decreasing; at most 100 points."),
+    other("material.hardening_extrapolation", "Past the curve's end", Kind::Choice, &["flat", "last_slope"], "Empty: flat (the last stress)."),
+    num("material.hardening_k_mpa", "Hardening K", "MPa", POSITIVE, None, "Swift or Ludwik."),
+    num("material.hardening_n", "Hardening exponent n", "", POSITIVE, Some((1.0, false)), "Swift or Ludwik."),
+    other("material.rate", "Strain-rate law", Kind::Choice, &["none", "cowper_symonds", "johnson_cook"], "Empty: the preset's (none for PVC). cowper_symonds: σ × (1 + (ε̇p/D)^(1/q)); johnson_cook: σ × (1 + C ln(ε̇p/ε̇₀)), 1 below ε̇₀."),
+    num("material.cowper_symonds_d_per_s", "Cowper–Symonds D", "1/s", POSITIVE, None, ""),
+    num("material.cowper_symonds_q", "Cowper–Symonds q", "", Some((1.0, false)), Some((100.0, false)), ""),
+    num("material.johnson_cook_c", "Johnson–Cook C", "", Some((0.0, false)), Some((1.0, false)), ""),
+    num("material.johnson_cook_reference_rate_per_s", "Johnson–Cook ε̇₀", "1/s", POSITIVE, None, "The reference (quasi-static) rate."),
     other("loading.mode", "Loading", Kind::Choice, &["axial", "lateral"], "Axial: plates normal to the axis. Lateral: the tube lies between the plates."),
     num("loading.plate_speed_m_s", "Plate speed", "m/s", POSITIVE, None, "Below half the material's wave speed."),
     num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral); at least the plate's travel while a stress wave crosses one grid cell."),
@@ -130,13 +149,22 @@ const SPECS: &[Spec] = &[
 /// Every field of the form, in display order.
 pub fn fields() -> Vec<Field> {
     let defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    let presets: Vec<(&'static str, Value)> = Preset::ALL
+        .iter()
+        .map(|p| {
+            (
+                p.name(),
+                serde_json::to_value(p.material()).unwrap_or(Value::Null),
+            )
+        })
+        .collect();
     SPECS
         .iter()
         .map(|s| {
             let pointer = format!("/{}", s.field.replace('.', "/"));
             // Only the fields the server fills in itself (label, crush distance, start ramp,
-            // shape functions) have no default in the serialized case: those are the optional
-            // ones.
+            // shape functions, the material's preset and the laws a preset may fill) have no
+            // default in the serialized case: those are the optional ones.
             let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
             Field {
                 field: s.field,
@@ -151,6 +179,13 @@ pub fn fields() -> Vec<Field> {
                 max_exclusive: s.max.is_some_and(|m| m.1),
                 choices: s.choices,
                 help: s.help,
+                presets: match s.field.strip_prefix("material.") {
+                    Some(name) if name != "preset" => presets
+                        .iter()
+                        .filter_map(|(p, m)| m.get(name).map(|v| (*p, v.clone())))
+                        .collect(),
+                    _ => BTreeMap::new(),
+                },
             }
         })
         .collect()
@@ -174,6 +209,45 @@ mod tests {
         }
         if field == "discretization.model" && value == "plane_strain" {
             spec["loading"]["mode"] = "lateral".into();
+        }
+        // A law's constants, tried with the law that reads them (and its other constants).
+        let material = &mut spec["material"];
+        let law = match field.strip_prefix("material.") {
+            Some("hardening_k_mpa" | "hardening_n") => Some(("hardening", "swift".into())),
+            Some("hardening_extrapolation") => Some(("hardening", "table".into())),
+            Some("cowper_symonds_d_per_s" | "cowper_symonds_q") => {
+                Some(("rate", "cowper_symonds".into()))
+            }
+            Some("johnson_cook_c" | "johnson_cook_reference_rate_per_s") => {
+                Some(("rate", "johnson_cook".into()))
+            }
+            Some(kind @ ("hardening" | "rate")) => Some((kind, value.clone())),
+            _ => None,
+        };
+        if let Some((kind, name)) = law {
+            let constants: &[(&str, Value)] = match name.as_str().unwrap_or("") {
+                "table" => &[(
+                    "hardening_curve",
+                    serde_json::json!([[0.0, 65.5], [0.1, 80.0]]),
+                )],
+                "swift" | "ludwik" => &[
+                    ("hardening_k_mpa", Value::from(200.0)),
+                    ("hardening_n", Value::from(0.2)),
+                ],
+                "cowper_symonds" => &[
+                    ("cowper_symonds_d_per_s", Value::from(40.4)),
+                    ("cowper_symonds_q", Value::from(5.0)),
+                ],
+                "johnson_cook" => &[
+                    ("johnson_cook_c", Value::from(0.01)),
+                    ("johnson_cook_reference_rate_per_s", Value::from(1.0)),
+                ],
+                _ => &[],
+            };
+            material[kind] = name;
+            for (k, v) in constants {
+                material[*k] = v.clone();
+            }
         }
         let mut at = &mut spec;
         for p in &parts[..parts.len() - 1] {
@@ -222,6 +296,17 @@ mod tests {
             optional,
             [
                 "label",
+                "material.preset",
+                "material.hardening",
+                "material.hardening_curve",
+                "material.hardening_extrapolation",
+                "material.hardening_k_mpa",
+                "material.hardening_n",
+                "material.rate",
+                "material.cowper_symonds_d_per_s",
+                "material.cowper_symonds_q",
+                "material.johnson_cook_c",
+                "material.johnson_cook_reference_rate_per_s",
                 "loading.crush_distance_mm",
                 "loading.ramp_mm",
                 "discretization.shape"
@@ -296,6 +381,7 @@ mod tests {
                 Kind::Integer => "integer",
                 Kind::Choice | Kind::Text => "string",
                 Kind::Boolean => "boolean",
+                Kind::Curve => "array",
             };
             let types: Vec<&str> = match &s["type"] {
                 serde_yaml_ng::Value::Sequence(t) => t.iter().filter_map(|t| t.as_str()).collect(),

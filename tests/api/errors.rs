@@ -89,6 +89,34 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     ] {
         assert!(named.contains(&f.to_string()), "{f} not in {named:?}");
     }
+    // 422: a hardening curve not increasing in strain and a rate law without its constants,
+    // each field named with its reason.
+    let bad = json!({"material": {"preset": "aa6060_t5", "hardening": "table",
+                                  "hardening_curve": [[0, 120], [0.1, 150], [0.05, 160]],
+                                  "rate": "cowper_symonds"}});
+    let p = problem(c.post(&jobs).json(&bad).send().await.unwrap(), 422).await;
+    let reasons: Vec<(String, String)> = p["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| (e["field"].as_str().unwrap().into(), e.to_string()))
+        .collect();
+    for (f, why) in [
+        ("material.hardening_curve", "not increasing in strain"),
+        (
+            "material.cowper_symonds_d_per_s",
+            "is required with rate cowper_symonds",
+        ),
+        (
+            "material.cowper_symonds_q",
+            "is required with rate cowper_symonds",
+        ),
+    ] {
+        assert!(
+            reasons.iter().any(|(k, e)| k == f && e.contains(why)),
+            "{f}: {why} not in {reasons:?}"
+        );
+    }
     // 422: too large for this server.
     let big = json!({"discretization": {"particles_through_thickness": 6}});
     let p = problem(c.post(&jobs).json(&big).send().await.unwrap(), 422).await;

@@ -115,6 +115,11 @@ fn run_writes_its_files_and_leaves_out_the_state_when_asked() {
         );
         assert!(out_dir.join("history.csv").is_file());
         assert!(out_dir.join("summary.json").is_file());
+        let energy = std::fs::read_to_string(out_dir.join("energy.svg")).unwrap();
+        assert!(
+            energy.contains("<svg") && energy.contains("polyline"),
+            "{name}: energy.svg"
+        );
         assert_eq!(out_dir.join("particles.csv").is_file(), keep, "{name}");
         assert_eq!(out_dir.join("shape.png").is_file(), keep, "{name}");
         if keep {

@@ -26,11 +26,16 @@ pub enum TableNumber {
     Steps,
     WallTime,
     ParticleStepsPerS,
+    FirstPeak,
+    MeanAfterFirstPeak,
+    CrushForceEfficiency,
+    SpecificEnergyAbsorption,
+    TubeMass,
 }
 
 impl TableNumber {
     /// Every number, in column order.
-    pub const ALL: [TableNumber; 12] = [
+    pub const ALL: [TableNumber; 17] = [
         TableNumber::MeanLoad,
         TableNumber::PeakLoad,
         TableNumber::EnergyAbsorbed,
@@ -43,6 +48,11 @@ impl TableNumber {
         TableNumber::Steps,
         TableNumber::WallTime,
         TableNumber::ParticleStepsPerS,
+        TableNumber::FirstPeak,
+        TableNumber::MeanAfterFirstPeak,
+        TableNumber::CrushForceEfficiency,
+        TableNumber::SpecificEnergyAbsorption,
+        TableNumber::TubeMass,
     ];
 
     /// The column's name.
@@ -60,6 +70,11 @@ impl TableNumber {
             TableNumber::Steps => "steps",
             TableNumber::WallTime => "wall_time_s",
             TableNumber::ParticleStepsPerS => "particle_steps_per_s",
+            TableNumber::FirstPeak => "first_peak_load_n",
+            TableNumber::MeanAfterFirstPeak => "mean_load_after_first_peak_n",
+            TableNumber::CrushForceEfficiency => "crush_force_efficiency",
+            TableNumber::SpecificEnergyAbsorption => "specific_energy_absorption_j_per_g",
+            TableNumber::TubeMass => "tube_mass_g",
         }
     }
 
@@ -89,6 +104,13 @@ impl TableNumber {
             TableNumber::Steps => s.cost.steps.into(),
             TableNumber::WallTime => s.cost.wall_time_s.into(),
             TableNumber::ParticleStepsPerS => s.cost.particle_steps_per_s.into(),
+            TableNumber::FirstPeak => s.measures.first_peak_load_n.into(),
+            TableNumber::MeanAfterFirstPeak => s.measures.mean_load_after_first_peak_n.into(),
+            TableNumber::CrushForceEfficiency => s.measures.crush_force_efficiency.into(),
+            TableNumber::SpecificEnergyAbsorption => {
+                s.measures.specific_energy_absorption_j_per_g.into()
+            }
+            TableNumber::TubeMass => s.measures.tube_mass_g.into(),
         }
     }
 }

@@ -1,5 +1,5 @@
 //! The analysis: what a run means. Its summary ([`summary`]: mean load, energy books, the
-//! collapse mode from [`mode`] and the folds from [`folds`]), the closed-form references of
+//! collapse mode from [`mode`] and the folds from [`folds`]; the crash measures, [`measures`]), the closed-form references of
 //! its loading ([`reference`]), and what a case would cost before it runs ([`estimate`]).
 //! Units: mm, N, mJ, s.
 //!
@@ -8,6 +8,7 @@
 pub mod error_bar;
 pub mod estimate;
 pub mod folds;
+pub mod measures;
 pub mod mode;
 pub mod peaks;
 pub mod reference;

@@ -3,6 +3,12 @@
 //!
 //! d (or D) is the mean diameter, t the wall thickness, l the length, σy the yield stress and U the
 //! crush distance of the case. Each formula is the textbook one; none depends on the run.
+//!
+//! The round metal tube's axial references ([`MetalTube`]): Abramowicz & Jones's modified
+//! Alexander with the effective crushing distance, and Guillow, Lu & Grzebieta's empirical fit
+//! for 6060-T5, each static and with the rate law's factor at the wall's mean strain rate V/(4R)
+//! where the material names a rate law. Both take the flow stress σ0 to be the case's yield
+//! stress σy (the static flow stress at zero plastic strain).
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
 use serde::{Deserialize, Serialize};
@@ -59,6 +65,9 @@ pub struct References {
     pub deruntz_hodge_mean_n: Option<f64>,
     /// Euler load of the whole column with clamped ends, 4π² E I / l², N.
     pub euler_clamped_n: f64,
+    /// The round metal tube's axial closed forms (absent from summaries stored before them).
+    #[serde(default)]
+    pub metal: MetalTube,
     /// The reference a report compares the run's mean load with.
     pub primary: Primary,
     /// Value of `primary`, N (NaN-free: 0 if it does not exist).
@@ -89,6 +98,15 @@ pub fn references(case: &Case) -> References {
     let deruntz_hodge_initial_n = deruntz_hodge(t, d, l, sy, 0.0);
     let deruntz_hodge_mean_n = deruntz_hodge_mean(t, d, l, sy, u);
     let euler_clamped_n = euler_clamped(t, d, l, e);
+    let strain_rate_per_s = mean_strain_rate_per_s(spec.loading.plate_speed_m_s, d);
+    let metal = MetalTube::of(
+        t,
+        d,
+        sy,
+        spec.material.rate_factor(strain_rate_per_s),
+        strain_rate_per_s,
+        spec.material.rate != crate::solver::model::spec::RateKind::None,
+    );
     let (primary, primary_n) = match geometry.mode {
         LoadingMode::Axial => (Primary::AlexanderRing, alexander_ring_n),
         LoadingMode::Lateral => (
@@ -102,9 +120,89 @@ pub fn references(case: &Case) -> References {
         deruntz_hodge_initial_n,
         deruntz_hodge_mean_n,
         euler_clamped_n,
+        metal,
         primary,
         primary_n,
     }
+}
+
+/// The axial closed forms of a round metal tube: static, and dynamic where the material names
+/// a rate law (`None` otherwise). N, mm, 1/s.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct MetalTube {
+    /// The flow stress σ0 both take: the case's yield stress, MPa.
+    pub flow_stress_mpa: f64,
+    /// Abramowicz & Jones (1984): P = M0 (22.27 √(D/t) + 5.632) / (0.86 − 0.568 √(t/D)),
+    /// M0 = (2/√3) σ0 t²/4: Alexander's ring mode with the fold's eccentricity, over the
+    /// effective crushing distance δe/2H = 0.86 − 0.568 √(t/D), N.
+    pub abramowicz_jones_n: f64,
+    /// The same times the rate factor at the mean strain rate, N.
+    pub abramowicz_jones_dynamic_n: Option<f64>,
+    /// Guillow, Lu & Grzebieta (2001), 6060-T5, D/t 10–450, quasi-static:
+    /// F = 72.3 M_P (D/t)^0.32, M_P = σ0 t²/4, N.
+    pub guillow_n: f64,
+    /// The same times the rate factor at the mean strain rate, N.
+    pub guillow_dynamic_n: Option<f64>,
+    /// Whether D/t lies in the range Guillow's fit was made on (10–450).
+    pub guillow_in_range: bool,
+    /// Alexander's fold wavelength 2H, H = √(π D t / (2√3)), mm.
+    pub fold_wavelength_mm: f64,
+    /// The wall's mean strain rate in the folds, V/(4R) (Abramowicz & Jones), 1/s.
+    pub strain_rate_per_s: f64,
+    /// The material's rate factor at that strain rate (1 without a rate law).
+    pub rate_factor: f64,
+}
+
+impl MetalTube {
+    /// Of the wall t, the mean diameter d (mm), the flow stress σ0 (MPa), the rate factor at
+    /// the mean strain rate and whether the material has a rate law.
+    pub fn of(
+        t: f64,
+        d: f64,
+        sigma0: f64,
+        rate_factor: f64,
+        strain_rate_per_s: f64,
+        rate_law: bool,
+    ) -> MetalTube {
+        let abramowicz_jones_n = abramowicz_jones(t, d, sigma0);
+        let guillow_n = guillow(t, d, sigma0);
+        let dynamic = |p: f64| rate_law.then_some(p * rate_factor);
+        let d_over_t = d / t;
+        MetalTube {
+            flow_stress_mpa: sigma0,
+            abramowicz_jones_n,
+            abramowicz_jones_dynamic_n: dynamic(abramowicz_jones_n),
+            guillow_n,
+            guillow_dynamic_n: dynamic(guillow_n),
+            guillow_in_range: (10.0..=450.0).contains(&d_over_t),
+            fold_wavelength_mm: 2.0 * alexander_half_fold(t, d),
+            strain_rate_per_s,
+            rate_factor,
+        }
+    }
+}
+
+/// Abramowicz & Jones's modified Alexander with the effective crushing distance, N.
+pub fn abramowicz_jones(t: f64, d: f64, sigma0: f64) -> f64 {
+    let m0 = 2.0 / 3f64.sqrt() * sigma0 * t * t / 4.0;
+    m0 * (22.27 * (d / t).sqrt() + 5.632) / (0.86 - 0.568 * (t / d).sqrt())
+}
+
+/// Guillow, Lu & Grzebieta's fit F = 72.3 M_P (D/t)^0.32, M_P = σ0 t²/4, N.
+pub fn guillow(t: f64, d: f64, sigma0: f64) -> f64 {
+    72.3 * sigma0 * t * t / 4.0 * (d / t).powf(0.32)
+}
+
+/// Alexander's half fold length H = √(π D t / (2√3)), mm: the H at which his mean load is
+/// least (bending 2π² R M0 / H, stretching π σ0 t H, M0 = σ0 t² / (2√3)).
+pub fn alexander_half_fold(t: f64, d: f64) -> f64 {
+    (PI * d * t / (2.0 * 3f64.sqrt())).sqrt()
+}
+
+/// The mean strain rate of the folds, V/(4R), of the plate speed V (m/s) and the mean
+/// diameter d (mm), 1/s.
+pub fn mean_strain_rate_per_s(speed_m_s: f64, d: f64) -> f64 {
+    speed_m_s * 1e3 / (2.0 * d)
 }
 
 /// Alexander's axisymmetric mean load, N.
@@ -205,6 +303,53 @@ mod tests {
         // I = π(25.4⁴ − 19⁴)/64 = π(416 231.4 − 130 321)/64 = 14 034.6 mm⁴;
         // P = 4π²·3378.4·14 034.6 / 76.2² = 322 375 N.
         close(euler_clamped(3.2, 22.2, 76.2, 3378.4), 322_375.0, 1e-5);
+    }
+
+    /// Alexander's load is 2π σ0 t H at his fold length H: the fold length is the one his
+    /// load is least at.
+    #[test]
+    fn alexander_s_fold_is_where_his_load_is_least() {
+        let (t, d, sy) = (2.0, 50.0, 120.0);
+        let h = alexander_half_fold(t, d);
+        close(2.0 * PI * sy * t * h, alexander_ring(t, d, sy), 1e-12);
+        let m0 = sy * t * t / (2.0 * 3f64.sqrt());
+        let load = |h: f64| 2.0 * PI * PI * (d / 2.0) * m0 / h + PI * sy * t * h;
+        close(load(h), alexander_ring(t, d, sy), 1e-12);
+        assert!(load(0.99 * h) > load(h) && load(1.01 * h) > load(h));
+    }
+
+    /// By hand: t 2, D 50 mm, σ0 120 MPa (D/t 25).
+    /// Abramowicz & Jones: M0 = 2/√3 · 120 · 4/4 = 138.564 N·mm/mm;
+    /// (22.27 · 5 + 5.632) / (0.86 − 0.568 · 0.2) = 116.982 / 0.7464 = 156.729; P = 21 717 N.
+    /// Guillow: 72.3 · 120 · 4/4 · 25^0.32 = 8 676 · 2.80115 = 24 303 N.
+    /// Mild steel at 10 m/s: V/(4R) = 10 000 / 100 = 100 /s, R = 1 + (100/40.4)^(1/5) = 2.198736.
+    #[test]
+    fn metal_tube_closed_forms_by_hand() {
+        close(abramowicz_jones(2.0, 50.0, 120.0), 21_717.0, 1e-4);
+        close(guillow(2.0, 50.0, 120.0), 24_303.0, 1e-4);
+        assert_eq!(mean_strain_rate_per_s(10.0, 50.0), 100.0);
+        let steel = Case::from_json(
+            r#"{"material": {"preset": "mild_steel"},
+                "tube": {"thickness_mm": 2, "mean_diameter_mm": 50, "length_mm": 150},
+                "loading": {"plate_speed_m_s": 10}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        let m = references(&steel).metal;
+        close(m.rate_factor, 2.198_736, 1e-6);
+        close(
+            m.abramowicz_jones_dynamic_n.unwrap(),
+            m.abramowicz_jones_n * m.rate_factor,
+            1e-12,
+        );
+        assert!(m.guillow_in_range);
+        // No rate law: no dynamic value, a factor of 1.
+        let pvc = references(&Case::from_json("{}", &Limits::default()).unwrap()).metal;
+        assert_eq!(
+            (pvc.abramowicz_jones_dynamic_n, pvc.rate_factor),
+            (None, 1.0)
+        );
+        assert!(!pvc.guillow_in_range, "d/t 6.9");
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 use super::error_bar::ErrorBar;
 use super::folds::count_folds;
+use super::measures::Measures;
 use super::mode::{detect_mode, CollapseMode, ModeDetail};
 use super::peaks::Peaks;
 use super::reference::{references, References};
@@ -16,6 +17,8 @@ use serde::{Deserialize, Serialize};
 pub struct Summary {
     /// P̄ = TEA / crush distance.
     pub mean_load_n: f64,
+    /// The largest load on the moving plate over the whole crush. On a long axial crush this is
+    /// the end compaction, not the first collapse: that is `first_peak_load_n`.
     pub peak_load_n: f64,
     /// TEA = ∫ P du by the trapezoid rule over the history.
     pub energy_absorbed_mj: f64,
@@ -33,6 +36,10 @@ pub struct Summary {
     /// Every term of the energy balance at the end of the run.
     #[serde(default)]
     pub energy: EnergyBooks,
+    /// Mass, specific energy absorption, first collapse peak, mean load after it, crush-force
+    /// efficiency, energy dissipated ([`Measures`]); absent from summaries stored before them.
+    #[serde(flatten)]
+    pub measures: Measures,
     /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
     pub kinetic_to_internal: f64,
     /// The longest stretch of plate travel over which the load on the moving plate stayed
@@ -114,6 +121,7 @@ pub fn summarize(
     } else {
         0.0
     };
+    let energy = history.last().map(EnergyBooks::of).unwrap_or_default();
     let mut summary = Summary {
         mean_load_n,
         peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
@@ -125,7 +133,8 @@ pub fn summarize(
             LoadingMode::Lateral => 0,
         },
         energy_balance_error: energy_balance_error(history),
-        energy: history.last().map(EnergyBooks::of).unwrap_or_default(),
+        energy,
+        measures: Measures::of(case.spec(), history, mean_load_n, &energy),
         kinetic_to_internal: kinetic_to_internal(history),
         longest_unloaded_mm: longest_unloaded_mm(history),
         mode,
@@ -145,7 +154,7 @@ pub fn energy_absorbed(history: &[HistoryRow]) -> f64 {
 }
 
 /// TEA up to and including each row.
-fn running_energy(history: &[HistoryRow]) -> Vec<f64> {
+pub fn running_energy(history: &[HistoryRow]) -> Vec<f64> {
     let (mut u, mut p, mut e) = (0.0, 0.0, 0.0);
     history
         .iter()
@@ -171,23 +180,35 @@ fn running_energy(history: &[HistoryRow]) -> Vec<f64> {
 /// The load is first passed through a short running median (see `median_filtered`), so that
 /// one- or two-row contact spikes are not counted as drops.
 pub fn count_load_drops(history: &[HistoryRow]) -> u32 {
+    load_drops(history).1.len() as u32
+}
+
+/// The load on the moving plate through the running median (see [`count_load_drops`]), and
+/// the rows at which each significant drop was confirmed (the load had fallen the margin below
+/// the peak before it), in order.
+pub fn load_drops(history: &[HistoryRow]) -> (Vec<f64>, Vec<usize>) {
     let energy = running_energy(history);
     let final_mean = match history.last() {
         Some(r) if r.displacement_mm > 0.0 => energy[energy.len() - 1] / r.displacement_mm,
-        _ => return 0,
+        _ => return (vec![], vec![]),
     };
     let smooth = median_filtered(history);
     let mut drops = Peaks::falls();
-    for ((r, e), &p) in history.iter().zip(&energy).zip(&smooth) {
+    let mut confirmed = vec![];
+    for (i, ((r, e), &p)) in history.iter().zip(&energy).zip(&smooth).enumerate() {
         let running = if r.displacement_mm > 0.0 {
             e / r.displacement_mm
         } else {
             0.0
         };
         let margin = LOAD_DROP_FRACTION * running.max(0.5 * final_mean);
+        let before = drops.count();
         drops.push(p, margin, f64::MIN);
+        if drops.count() > before {
+            confirmed.push(i);
+        }
     }
-    drops.count()
+    (smooth, confirmed)
 }
 
 /// The load on the moving plate through a running median over ±max(2, rows/200) rows: a fold

@@ -3,9 +3,10 @@
 //! collects every failure.
 
 use super::limits::FieldError;
+use super::material::checks as material_checks;
 use super::spec::{
-    wave_speed_m_s, CaseSpec, Contact, LoadingMode, Material, Model, Output, Trigger, Tube,
-    DEFAULT_RAMP_MM,
+    wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
+    Output, RateKind, Trigger, Tube, DEFAULT_RAMP_MM,
 };
 
 /// The failures found so far.
@@ -54,7 +55,9 @@ pub(super) fn tube(c: &mut Checker, t: &Tube) {
     }
 }
 
-/// The material: positive moduli and density, a Poisson ratio below ½, a wave speed that computes.
+/// The material: positive moduli and density, a Poisson ratio below ½, a wave speed that
+/// computes; a hardening law and a rate law with every constant they need and none they do not
+/// ([`material_checks`]).
 pub(super) fn material(c: &mut Checker, m: &Material) {
     c.positive("material.youngs_modulus_mpa", m.youngs_modulus_mpa);
     c.range(
@@ -66,6 +69,17 @@ pub(super) fn material(c: &mut Checker, m: &Material) {
     );
     c.positive("material.yield_stress_mpa", m.yield_stress_mpa);
     c.positive("material.density_kg_m3", m.density_kg_m3);
+    let elastic = m.model == MaterialModel::Elastic;
+    for (field, named) in [
+        ("material.hardening", m.hardening != HardeningKind::None),
+        ("material.rate", m.rate != RateKind::None),
+    ] {
+        if elastic && named {
+            c.fail(field, "is for model j2: an elastic wall never yields");
+        }
+    }
+    material_checks::hardening(c, m);
+    material_checks::rate(c, m);
 }
 
 /// The loading: the plate speed, the crush and the start ramp against the tube and the material. Returns the crush and the ramp with their defaults filled in, mm.

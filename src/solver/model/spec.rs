@@ -4,10 +4,14 @@
 //!
 //! Omitted fields take the PVC defaults of the design page (t = 3.2 mm, d = 22.2 mm, l = 76.2 mm,
 //! E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the density is our assumption, the
-//! source gives none; rigid PVC lies between 1300 and 1450 kg/m³).
+//! source gives none; rigid PVC lies between 1300 and 1450 kg/m³). The material section's own
+//! types, its presets and how a preset fills it are in [`super::material::section`].
 
 use super::input::{clip, clip_quoted, object, object_from_str};
 use super::limits::CaseError;
+pub use super::material::section::{
+    CurveExtrapolation, HardeningKind, Material, MaterialModel, Preset, RateKind,
+};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -51,39 +55,6 @@ impl Default for Tube {
             thickness_mm: 3.2,
             mean_diameter_mm: 22.2,
             length_mm: 76.2,
-        }
-    }
-}
-
-/// Constitutive model of the wall.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum MaterialModel {
-    /// Elastic–perfectly plastic, von Mises (J2) yield, radial return.
-    #[default]
-    J2,
-    /// Linear elastic, never yields (a stability check, not a crash material).
-    Elastic,
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Material {
-    pub model: MaterialModel,
-    pub youngs_modulus_mpa: f64,
-    pub poisson_ratio: f64,
-    pub yield_stress_mpa: f64,
-    pub density_kg_m3: f64,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        Material {
-            model: MaterialModel::J2,
-            youngs_modulus_mpa: 3378.4,
-            poisson_ratio: 0.42,
-            yield_stress_mpa: 65.5,
-            density_kg_m3: 1380.0,
         }
     }
 }
@@ -325,6 +296,20 @@ pub fn field_paths() -> Vec<String> {
     full.loading.crush_distance_mm = Some(0.0);
     full.loading.ramp_mm = Some(0.0);
     full.discretization.shape = Some(ShapeKind::Gimp);
+    full.material = Material {
+        preset: Some(Preset::Pvc),
+        hardening: HardeningKind::Table,
+        hardening_curve: Some(vec![[0.0, 65.5]]),
+        hardening_extrapolation: Some(CurveExtrapolation::Flat),
+        hardening_k_mpa: Some(0.0),
+        hardening_n: Some(0.0),
+        rate: RateKind::CowperSymonds,
+        cowper_symonds_d_per_s: Some(0.0),
+        cowper_symonds_q: Some(0.0),
+        johnson_cook_c: Some(0.0),
+        johnson_cook_reference_rate_per_s: Some(0.0),
+        ..Material::default()
+    };
     let Ok(Value::Object(sections)) = serde_json::to_value(&full) else {
         unreachable!("a case serializes to an object")
     };

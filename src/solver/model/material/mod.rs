@@ -5,24 +5,33 @@
 //!
 //! Every law shares the Jaumann (objective) stress rate of the elastic trial ([`trial`]); a law
 //! differs in what it does to the trial's deviator ([`elastic::Elastic`]: nothing;
-//! [`j2::J2`]: the radial return to the von Mises surface). A law is chosen once per run
+//! [`j2::J2`]: the radial return to the von Mises surface of a constant yield stress, the
+//! paper's model; [`metal::Metal`]: the implicit return to the surface of a hardening,
+//! rate-sensitive flow stress, [`flow`]). The case's material section, its presets and how they
+//! become a law are in [`section`] and [`preset`]. A law is chosen once per run
 //! ([`MaterialLaw`]), so the stress loop over the particles stays monomorphic, and it runs on
 //! lanes ([`Lanes`]): `f64` for one particle, `f64x4` for four at once, with the same bits. The
 //! state a law reads besides the stress is the particle's own ([`Point`]): its trigger factor
 //! and its accumulated equivalent plastic strain, which the particles carry and the increment
 //! advances.
 
+pub(super) mod checks;
 pub mod elastic;
+pub mod flow;
 pub mod j2;
+pub mod metal;
+pub mod preset;
+pub mod section;
 
-use super::spec::{Material, MaterialModel};
 use crate::solver::Real;
 use nalgebra::Matrix3;
+use section::{HardeningKind, Material, MaterialModel, RateKind};
 use std::ops::{Add, Div, Mul, Sub};
 use wide::f64x4;
 
 pub use elastic::Elastic;
 pub use j2::J2;
+pub use metal::Metal;
 
 /// Symmetric stress in Voigt order xx, yy, zz, yz, xz, xy (MPa).
 pub type Sym = [Real; 6];
@@ -143,23 +152,29 @@ pub trait Law: Copy + Send + Sync + 'static {
 }
 
 /// The law a case's material names, chosen once per run.
+// A metal carries its hardening table by value ([`flow::Hardening`]); the law is chosen once a
+// run and dispatched once a step, so the size difference costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum MaterialLaw {
     Elastic(Elastic),
     J2(J2),
+    Metal(Metal),
 }
 
 impl MaterialLaw {
-    /// The law of a case's `material` section.
+    /// The law of a case's `material` section (checked): J2 with a constant yield stress where
+    /// the section names neither hardening nor a rate law (the paper's PVC runs exactly the law
+    /// it always ran), the metal's law where it names either.
     pub fn of(m: &Material) -> MaterialLaw {
+        let (e, nu) = (m.youngs_modulus_mpa, m.poisson_ratio);
         match m.model {
-            MaterialModel::J2 => MaterialLaw::J2(J2::new(
-                m.youngs_modulus_mpa,
-                m.poisson_ratio,
-                m.yield_stress_mpa,
-            )),
-            MaterialModel::Elastic => {
-                MaterialLaw::Elastic(Elastic::new(m.youngs_modulus_mpa, m.poisson_ratio))
+            MaterialModel::Elastic => MaterialLaw::Elastic(Elastic::new(e, nu)),
+            MaterialModel::J2 if m.hardening == HardeningKind::None && m.rate == RateKind::None => {
+                MaterialLaw::J2(J2::new(e, nu, m.yield_stress_mpa))
+            }
+            MaterialModel::J2 => {
+                MaterialLaw::Metal(Metal::new(e, nu, m.hardening_law(), m.rate_law()))
             }
         }
     }
@@ -182,6 +197,7 @@ impl MaterialLaw {
         match self {
             MaterialLaw::Elastic(law) => task.with(law),
             MaterialLaw::J2(law) => task.with(law),
+            MaterialLaw::Metal(law) => task.with(law),
         }
     }
 }
@@ -302,6 +318,10 @@ pub trait Lanes:
     fn min(self, other: Self) -> Self;
     /// The larger; the other one where one is NaN (as `f64::max`).
     fn max(self, other: Self) -> Self;
+    /// `f` of each lane's values of `args`, lane by lane: the scalar code of a law that has no
+    /// lane-wise form (a power, a table lookup, a Newton solve), so that four lanes give the
+    /// bits of one by construction.
+    fn each<const K: usize>(args: [Self; K], f: impl Fn([Real; K]) -> Real) -> Self;
 }
 
 impl Lanes for Real {
@@ -320,6 +340,10 @@ impl Lanes for Real {
     #[inline(always)]
     fn max(self, other: Self) -> Self {
         Real::max(self, other)
+    }
+    #[inline(always)]
+    fn each<const K: usize>(args: [Self; K], f: impl Fn([Real; K]) -> Real) -> Self {
+        f(args)
     }
 }
 
@@ -340,6 +364,11 @@ impl Lanes for f64x4 {
     fn max(self, other: Self) -> Self {
         f64x4::max(self, other)
     }
+    #[inline(always)]
+    fn each<const K: usize>(args: [Self; K], f: impl Fn([Real; K]) -> Real) -> Self {
+        let lanes = args.map(|a| a.to_array());
+        f64x4::new([0, 1, 2, 3].map(|j| f(lanes.map(|l| l[j]))))
+    }
 }
 
 /// von Mises equivalent stress, MPa.
@@ -349,5 +378,9 @@ pub fn von_mises(s: &Sym) -> Real {
     (1.5 * (a * a + b * b + c * c + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))).sqrt()
 }
 
+#[cfg(test)]
+mod metal_tests;
+#[cfg(test)]
+mod section_tests;
 #[cfg(test)]
 mod tests;

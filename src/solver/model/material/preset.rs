@@ -1,0 +1,125 @@
+//! Material presets: a case names one (`material.preset`) and may override any field. Each
+//! preset's values are those of the source named beside it (docs/materials.md gives the same
+//! table with the sources in full); none is fitted here.
+
+use super::section::{HardeningKind, Material, MaterialModel, RateKind};
+use serde::{Deserialize, Serialize};
+
+/// The materials a case can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// The paper's rigid PVC: elastic–perfectly plastic, rate-independent.
+    Pvc,
+    /// Aluminium alloy EN AW-6060 in temper T5, extruded, wall ≤ 5 mm: the alloy of Guillow,
+    /// Lu & Grzebieta's round tubes. Elastic–perfectly plastic at its 0.2 % proof stress.
+    #[serde(rename = "aa6060_t5")]
+    Aa6060T5,
+    /// Aluminium alloy 6061-T6: Johnson–Cook's strain and rate terms.
+    #[serde(rename = "aa6061_t6")]
+    Aa6061T6,
+    /// Mild steel: perfectly plastic with Cowper–Symonds' rate law of Jones's book.
+    MildSteel,
+}
+
+impl Preset {
+    /// Every preset, in the order the form lists them.
+    pub const ALL: [Preset; 4] = [
+        Preset::Pvc,
+        Preset::Aa6060T5,
+        Preset::Aa6061T6,
+        Preset::MildSteel,
+    ];
+
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Pvc => "pvc",
+            Preset::Aa6060T5 => "aa6060_t5",
+            Preset::Aa6061T6 => "aa6061_t6",
+            Preset::MildSteel => "mild_steel",
+        }
+    }
+
+    /// Where the preset's values come from, in a line.
+    pub fn source(self) -> &'static str {
+        match self {
+            Preset::Pvc => {
+                "the paper's PVC (E, ν, σy); density 1380 kg/m³ assumed (rigid PVC: 1300–1450)"
+            }
+            Preset::Aa6060T5 => {
+                "EN 755-2 / EN 1999-1-1 Table 3.2b, EN AW-6060 T5 extrusions t ≤ 5 mm: \
+                 f0 = 120 MPa (fu = 160 MPa); E, ν, ρ of EN 1999-1-1 §3.2.5"
+            }
+            Preset::Aa6061T6 => {
+                "Lesuer, Kay & LeBlanc (2001, LLNL UCRL-JC-134118), Johnson–Cook fit: A = 324 MPa, B = 114 MPa, n = 0.42, C = 0.002 at \
+                 ε̇₀ = 1/s (no thermal term); E, ν, ρ of MatWeb's 6061-T6"
+            }
+            Preset::MildSteel => {
+                "σy = 250 MPa, E = 210 GPa, ν = 0.3, ρ = 7850 kg/m³; Cowper–Symonds D = 40.4/s, \
+                 q = 5 (Jones, Structural Impact, 1989)"
+            }
+        }
+    }
+
+    /// The preset's material section, every law constant filled in.
+    pub fn material(self) -> Material {
+        let plain = Material {
+            preset: Some(self),
+            model: MaterialModel::J2,
+            youngs_modulus_mpa: 0.0,
+            poisson_ratio: 0.0,
+            yield_stress_mpa: 0.0,
+            density_kg_m3: 0.0,
+            hardening: HardeningKind::None,
+            hardening_curve: None,
+            hardening_extrapolation: None,
+            hardening_k_mpa: None,
+            hardening_n: None,
+            rate: RateKind::None,
+            cowper_symonds_d_per_s: None,
+            cowper_symonds_q: None,
+            johnson_cook_c: None,
+            johnson_cook_reference_rate_per_s: None,
+        };
+        match self {
+            Preset::Pvc => Material {
+                youngs_modulus_mpa: 3378.4,
+                poisson_ratio: 0.42,
+                yield_stress_mpa: 65.5,
+                density_kg_m3: 1380.0,
+                ..plain
+            },
+            Preset::Aa6060T5 => Material {
+                youngs_modulus_mpa: 70_000.0,
+                poisson_ratio: 0.3,
+                yield_stress_mpa: 120.0,
+                density_kg_m3: 2700.0,
+                ..plain
+            },
+            Preset::Aa6061T6 => Material {
+                youngs_modulus_mpa: 68_900.0,
+                poisson_ratio: 0.33,
+                yield_stress_mpa: 324.0,
+                density_kg_m3: 2700.0,
+                hardening: HardeningKind::Ludwik,
+                hardening_k_mpa: Some(114.0),
+                hardening_n: Some(0.42),
+                rate: RateKind::JohnsonCook,
+                johnson_cook_c: Some(0.002),
+                johnson_cook_reference_rate_per_s: Some(1.0),
+                ..plain
+            },
+            Preset::MildSteel => Material {
+                youngs_modulus_mpa: 210_000.0,
+                poisson_ratio: 0.3,
+                yield_stress_mpa: 250.0,
+                density_kg_m3: 7850.0,
+                rate: RateKind::CowperSymonds,
+                cowper_symonds_d_per_s: Some(40.4),
+                cowper_symonds_q: Some(5.0),
+                ..plain
+            },
+        }
+    }
+}
