@@ -18,7 +18,9 @@
 
 use super::richardson::richardson;
 use super::summary::Summary;
-use crate::solver::model::case::{Case, Limits, LoadingMode, Model, ShapeKind};
+use crate::solver::model::case::{Case, Limits, LoadingMode, Model};
+use crate::solver::model::ladder::rungs;
+pub use crate::solver::model::ladder::LOWEST_RUNG;
 use crate::solver::CollapseMode;
 use serde::{Deserialize, Serialize};
 
@@ -72,81 +74,38 @@ pub struct Rung {
     pub wall_time_s: f64,
 }
 
-/// The coarsest rung of a ladder. The paper's section converges smoothly (order about 3) from
-/// n = 8 on, but not below: 13.648, 13.283 and 12.649 kN at n = 4, 6 and 8, where the steps
-/// grow; a ladder at n = 3, 4, 6 extrapolates to 13.12 kN at order 2.9 against the converged
-/// 12.45 kN (measured with `crush run`). No ladder can see a jump beyond its finest rung.
-pub const LOWEST_RUNG: u32 = 8;
-
 /// The floor of the interval's half-width, as a share of the estimate: the 3D run and its
 /// section differ by 0.2–0.5 % at the same n once resolved, a difference no ladder of the
 /// section can see.
 pub const MODEL_GAP_FLOOR: f64 = 0.005;
 
 /// The rungs to run for `case`, each a case of the reduced model, with `None` for the rung that
-/// is the run itself; or why there is no ladder.
+/// is the run itself; or why there is no ladder (the case's shape functions or its n, or a run
+/// that collapsed in a way its section cannot).
 pub fn ladder(case: &Case, summary: &Summary) -> Result<Vec<(u32, Option<Case>)>, String> {
     let spec = case.spec();
-    let model = spec.discretization.model;
-    let n = spec.discretization.particles_through_thickness;
-    if case.shape() != ShapeKind::Gimp {
-        return Err(
-            "linear shape functions (the default for a thin wall in 3D) have no \
-                    converged answer on thin walls to measure the error against yet \
-                    (docs/validation.md §5); run with discretization.shape \"gimp\" for an \
-                    error bar"
-                .into(),
-        );
-    }
-    let twin_model = match spec.loading.mode {
-        LoadingMode::Axial => Model::Axisymmetric,
-        LoadingMode::Lateral => Model::PlaneStrain,
-    };
+    let rungs = rungs(spec, case.shape())?;
     let folded_alike = matches!(summary.mode, CollapseMode::Ring | CollapseMode::Flattening);
-    if model == Model::ThreeD && !folded_alike {
+    if spec.discretization.model == Model::ThreeD && !folded_alike {
         return Err(format!(
             "the run collapsed as {}: its section can fold only as {}, so a ladder of the \
              section does not price this run's error (run an ensemble over trigger.seed for \
              the spread)",
             summary.mode.kind().replace('_', " "),
-            if twin_model == Model::Axisymmetric {
-                "rings"
-            } else {
-                "a flattening"
+            match spec.loading.mode {
+                LoadingMode::Axial => "rings",
+                LoadingMode::Lateral => "a flattening",
             }
         ));
     }
-    let max = twin_model.max_particles_through_thickness();
-    // The ladder proper: m, 1.5 m, 2 m from m = max(n, LOWEST_RUNG); a 3D run adds its twin at
-    // its own n (for the gap between the two).
-    let m = n.max(LOWEST_RUNG);
-    let mut ns = vec![m, (3 * m).div_ceil(2), 2 * m];
-    if model == Model::ThreeD && n < m {
-        ns.insert(0, n);
-    }
-    if ns[ns.len() - 1] > max {
-        return Err(format!(
-            "the ladder would need n = {} in the {} section, past its {max}",
-            ns[ns.len() - 1],
-            twin_model.name().replace('_', " ")
-        ));
-    }
-    ns.into_iter()
-        .map(|k| {
-            if model != Model::ThreeD && k == n {
-                return Ok((k, None));
-            }
-            let mut twin = spec.clone();
-            twin.discretization.model = twin_model;
-            twin.discretization.particles_through_thickness = k;
-            twin.discretization.shape = Some(ShapeKind::Gimp);
-            twin.trigger.weak_fraction = 0.0;
-            twin.output.final_state = false;
-            // The rungs cost a fraction of the run that passed the limits (the section holds
-            // n² particles against 3D's n³·π d / t); they are not held to them again.
-            Case::parse(twin, &Limits::unbounded())
+    rungs
+        .into_iter()
+        .map(|(k, twin)| match twin {
+            None => Ok((k, None)),
+            // Held to the runner's limits with the case that asked for them (`Case::parse`).
+            Some(twin) => Case::parse(twin, &Limits::unbounded())
                 .map(|c| (k, Some(c)))
-                .map_err(|e| format!("the section at n = {k} cannot be run: {e}"))
+                .map_err(|e| format!("the section at n = {k} cannot be run: {e}")),
         })
         .collect()
 }

@@ -2,6 +2,7 @@
 
 use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
+use crate::solver::model::ladder::rungs;
 use serde::{Deserialize, Serialize};
 
 use crate::solver::model::case::Limits;
@@ -55,6 +56,10 @@ pub struct Estimate {
     /// The verdict as far as the case alone tells it: the run's own may add reasons its
     /// numbers show (energy books, inertia), never take these away.
     pub verdict: Verdict,
+    /// When the case asks for an error bar (`output.error_bar`): the expected wall time of its
+    /// ladder's rungs, s, on top of `wall_time_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_bar_wall_time_s: Option<f64>,
 }
 
 /// What the reduced model would cost against 3D, and what it cannot show.
@@ -71,6 +76,17 @@ pub struct Reduced {
 /// Cost of running `case` on `threads` threads.
 pub fn estimate(case: &Case, threads: u32) -> Estimate {
     let mut e = cost(case, threads);
+    if case.spec().output.error_bar {
+        // `Case::parse` checked that every rung parses and fits the limits.
+        let rungs = rungs(case.spec(), case.shape()).unwrap_or_default();
+        e.error_bar_wall_time_s = Some(
+            rungs
+                .into_iter()
+                .filter_map(|(_, twin)| Case::parse(twin?, &Limits::unbounded()).ok())
+                .map(|twin| cost(&twin, threads).wall_time_s)
+                .sum(),
+        );
+    }
     e.reduced = reduced(case).map(|(model, r)| {
         let c = cost(&r, threads);
         Reduced {
@@ -135,5 +151,6 @@ fn cost(case: &Case, threads: u32) -> Estimate {
         shape: case.shape_choice().clone(),
         reduced: None,
         verdict: Verdict::of(foreseen(case)),
+        error_bar_wall_time_s: None,
     }
 }

@@ -50,8 +50,8 @@ impl Case {
         }
         let geometry = Geometry::of(&spec);
         let (particles, steps) = c.costs(&spec, &geometry, crush, limits);
-        match (particles, steps) {
-            (Some(particles), Some(steps)) if c.errors.is_empty() => Ok(Case {
+        let case = match (particles, steps) {
+            (Some(particles), Some(steps)) if c.errors.is_empty() => Case {
                 shape: match spec.discretization.shape {
                     Some(kind) => ShapeChoice {
                         kind,
@@ -65,9 +65,47 @@ impl Case {
                 particles,
                 steps,
                 ramp_mm: ramp,
-            }),
-            _ => Err(CaseError::Invalid(c.errors)),
+            },
+            _ => return Err(CaseError::Invalid(c.errors)),
+        };
+        if case.spec.output.error_bar {
+            case.ladder_within(limits).map_err(|reason| {
+                CaseError::Invalid(vec![FieldError {
+                    field: "output.error_bar".into(),
+                    reason,
+                }])
+            })?;
         }
+        Ok(case)
+    }
+
+    /// The error bar's rungs ([`super::ladder`]) with the run itself, held to `limits`: each
+    /// rung's steps, and the particle-steps of all of them and the run together.
+    fn ladder_within(&self, limits: &Limits) -> Result<(), String> {
+        let rungs = super::ladder::rungs(&self.spec, self.shape())
+            .map_err(|why| format!("cannot be priced for this case: {why}"))?;
+        let mut work = self.particles as f64 * self.steps as f64;
+        for (n, twin) in rungs {
+            let Some(twin) = twin else { continue };
+            let twin = Case::parse(twin, &Limits::unbounded())
+                .map_err(|e| format!("its section at n = {n} cannot be run: {e}"))?;
+            if twin.steps > limits.max_steps {
+                return Err(format!(
+                    "its section at n = {n} takes {} time steps, more than this runner's \
+                     limit of {}",
+                    twin.steps, limits.max_steps
+                ));
+            }
+            work += twin.particles as f64 * twin.steps as f64;
+        }
+        if work > limits.max_particle_steps as f64 {
+            return Err(format!(
+                "the run with its error bar's ladder comes to {work:.3e} particle-steps, more \
+                 than this runner's limit of {}",
+                limits.max_particle_steps
+            ));
+        }
+        Ok(())
     }
 
     pub fn spec(&self) -> &CaseSpec {

@@ -11,6 +11,7 @@ pub mod contact;
 mod cost;
 pub mod geometry;
 pub mod input;
+pub mod ladder;
 pub mod limits;
 pub mod material;
 pub mod policy;

@@ -481,3 +481,42 @@ fn lateral_crush_must_fit_in_the_bore() {
         "{err}"
     );
 }
+
+#[test]
+fn an_error_bar_is_held_with_its_ladder_to_the_limits_and_refused_where_no_ladder_prices_it() {
+    let asked = |json: &str, limits: &Limits| {
+        Case::from_json(json, limits).map_err(|e| match e {
+            CaseError::Invalid(errors) => errors,
+            other => panic!("{other:?}"),
+        })
+    };
+    // The paper's tube at n = 1: a cheap run, but its ladder runs the section at n = 1, 8, 12
+    // and 16 over the whole crush.
+    let tiny = r#"{"discretization": {"particles_through_thickness": 1},
+                   "output": {"error_bar": true}}"#;
+    let run_alone = Case::from_json(
+        r#"{"discretization": {"particles_through_thickness": 1}}"#,
+        &Limits::default(),
+    )
+    .unwrap();
+    let own = run_alone.particle_count() * run_alone.step_count();
+    let tight = Limits {
+        max_particle_steps: 2 * own,
+        ..Limits::default()
+    };
+    assert!(Case::from_json(
+        r#"{"discretization": {"particles_through_thickness": 1}}"#,
+        &tight
+    )
+    .is_ok());
+    let errors = asked(tiny, &tight).unwrap_err();
+    assert_eq!(errors[0].field, "output.error_bar", "{errors:?}");
+    assert!(errors[0].reason.contains("particle-steps"), "{errors:?}");
+    assert!(asked(tiny, &Limits::default()).is_ok());
+    let linear = r#"{"discretization": {"shape": "linear"}, "output": {"error_bar": true}}"#;
+    let errors = asked(linear, &Limits::default()).unwrap_err();
+    assert!(
+        errors[0].reason.contains("linear shape functions"),
+        "{errors:?}"
+    );
+}
