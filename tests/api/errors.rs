@@ -234,17 +234,24 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     .await;
     assert_eq!(p["field"], "Idempotency-Key");
 
-    // 400/422 for sweeps: a malformed body, an empty list, too many combinations.
+    // 422 for sweeps: nothing to vary (neither parameters nor an ensemble), an empty list.
     let p = problem(
         c.post(app.at("/v1/sweeps"))
             .json(&json!({"base": {}}))
             .send()
             .await
             .unwrap(),
-        400,
+        422,
     )
     .await;
-    assert!(p["detail"].as_str().unwrap().contains("parameters"), "{p}");
+    assert_eq!(fields(&p), vec!["parameters"]);
+    assert!(
+        p["errors"][0]["reason"]
+            .as_str()
+            .unwrap()
+            .contains("ensemble"),
+        "{p}"
+    );
     let body = json!({"base": tiny_case(), "parameters": {"tube.length_mm": []}});
     let p = problem(
         c.post(app.at("/v1/sweeps"))
