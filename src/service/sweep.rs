@@ -12,6 +12,7 @@
 
 use crate::solver::model::case::{field_paths, spec_from_value};
 use crate::solver::model::input::{clip, clip_quoted, object_from_str, set_field, JsonError};
+use crate::solver::model::spec::whole;
 use crate::solver::{Case, CaseError, FieldError, Limits};
 use crate::study::ensemble::SEED_FIELD;
 use serde::Deserialize;
@@ -35,7 +36,7 @@ pub struct SweepRequest {
     /// Run every combination over this many trigger seeds, from the base's `trigger.seed` on:
     /// `trigger.seed` becomes the last (fastest) parameter, and the sweep's view reads the
     /// runs as a distribution.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "present")]
     pub ensemble: Option<EnsembleRequest>,
 }
 
@@ -43,7 +44,14 @@ pub struct SweepRequest {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnsembleRequest {
+    /// A whole number; `5.0` reads as 5, as JSON Schema's `integer` has it.
+    #[serde(deserialize_with = "whole::<_, u64>")]
     pub seeds: u64,
+}
+
+/// An optional object that, when given, must be one: `null` is a wrong type, not "absent".
+fn present<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Option<EnsembleRequest>, D::Error> {
+    EnsembleRequest::deserialize(de).map(Some)
 }
 
 /// The fewest seeds an ensemble takes: one seed is a single run.
@@ -578,6 +586,19 @@ mod tests {
         let both = json!({"base": triggered, "ensemble": {"seeds": 3},
                           "parameters": {"trigger.seed": [1, 2]}});
         assert_eq!(refusal(both, 100)[0].field, "parameters.trigger.seed");
+        let whole = json!({"base": triggered, "ensemble": {"seeds": 3.0}});
+        assert_eq!(
+            plan(&whole.to_string(), &Limits::default(), 100)
+                .unwrap()
+                .jobs
+                .len(),
+            3
+        );
+        let null = json!({"base": triggered, "ensemble": null, "parameters": {"label": ["a"]}});
+        assert!(matches!(
+            plan(&null.to_string(), &Limits::default(), 100),
+            Err(Refusal::Malformed(_))
+        ));
         let unknown = json!({"base": triggered, "ensemble": {"seeds": 3, "from": 2}});
         assert!(matches!(
             plan(&unknown.to_string(), &Limits::default(), 100),

@@ -266,7 +266,7 @@ impl Default for Output {
 
 /// An integer field read from any JSON number with no fractional part: JSON (and the contract's
 /// JSON Schema `integer`) counts `500.0` as the integer 500, so the parser does too.
-fn whole<'de, D, T>(de: D) -> Result<T, D::Error>
+pub fn whole<'de, D, T>(de: D) -> Result<T, D::Error>
 where
     D: serde::Deserializer<'de>,
     T: TryFrom<u64>,
