@@ -1,4 +1,4 @@
-//! `crush serve | run | bench | study`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | estimate | bench | study`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -19,6 +19,8 @@ enum Command {
     Serve(crush::service::ServeArgs),
     /// Run one crush case and write its history and summary.
     Run(crush::cli::RunArgs),
+    /// What a case will cost and what its verdict can already say, without running it.
+    Estimate(crush::cli::EstimateArgs),
     /// Accuracy and stability studies: convergence, stability, speed.
     Study(crush::cli::StudyArgs),
     /// Measure solver speed (particle-steps/s), time per phase and memory per particle.
@@ -28,8 +30,21 @@ enum Command {
     BenchOne(crush::cli::BenchOneArgs),
 }
 
-fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
+/// Errors are told as their chain of causes, one line (`Error: reading a.json: No such file`):
+/// a user's mistake is no place for a backtrace, even with `RUST_BACKTRACE` set. A bug still
+/// panics, with its backtrace.
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse().command) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("Error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Serve(args) => {
             let runtime = tokio::runtime::Builder::new_multi_thread()
                 .enable_all()
@@ -37,6 +52,7 @@ fn main() -> anyhow::Result<()> {
             runtime.block_on(crush::service::serve(args))
         }
         Command::Run(args) => crush::cli::run(args),
+        Command::Estimate(args) => crush::cli::estimate(args),
         Command::Bench(args) => crush::cli::bench(args),
         Command::Study(args) => crush::cli::study(args),
         Command::BenchOne(args) => crush::cli::bench_one(args),

@@ -1,9 +1,11 @@
 //! Command-line runners around the solver: `crush run CASE.json` runs one case with a progress
-//! bar, prints a summary and writes `history.csv` and `summary.json`; `crush bench` measures
-//! the solver's speed and memory; `crush study` runs convergence, stability and plate-speed
-//! studies.
+//! bar, prints a summary and writes `history.csv` and `summary.json`; `crush estimate
+//! CASE.json` prints what a case will cost and what its verdict can say before it runs;
+//! `crush bench` measures the solver's speed and memory; `crush study` runs convergence,
+//! stability and plate-speed studies.
 
 mod bench;
+mod estimate;
 mod output;
 mod progress;
 mod report;
@@ -11,6 +13,7 @@ mod run;
 mod study;
 
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
+pub use estimate::estimate;
 pub use output::{write_history_csv, write_summary_json, SummaryFile};
 pub use report::format_report;
 pub use run::run;
@@ -36,6 +39,22 @@ pub struct RunArgs {
     /// resolutions), as the case's `output.error_bar` does.
     #[arg(long)]
     pub error_bar: bool,
+}
+
+/// Arguments of `crush estimate`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct EstimateArgs {
+    /// The crush case, as JSON (see examples/).
+    pub case: PathBuf,
+    /// Solver threads the estimate is for [default: all cores].
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Refuse cases with more tube particles than this.
+    #[arg(long, default_value_t = crate::solver::Limits::default().max_particles)]
+    pub max_particles: u64,
+    /// Print the estimate as the JSON `POST /v1/estimate` answers.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[cfg(test)]

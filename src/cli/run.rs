@@ -17,27 +17,36 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let source = args.case.display().to_string();
-    let text = std::fs::read_to_string(&args.case).with_context(|| format!("reading {source}"))?;
-    let case = match Case::from_json(
-        &text,
-        &Limits {
-            max_particles: args.max_particles,
-            ..Limits::unbounded()
-        },
-    ) {
-        Ok(case) => case,
+/// The case file at `path`, checked (no limit but `max_particles`), with its name for messages;
+/// a rejected case prints every field and why.
+pub fn read_case(path: &Path, max_particles: u64) -> anyhow::Result<(Case, String)> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {source}"))?;
+    let limits = Limits {
+        max_particles,
+        ..Limits::unbounded()
+    };
+    match Case::from_json(&text, &limits) {
+        Ok(case) => Ok((case, source)),
         Err(e) => {
             eprintln!("{}", format_case_error(&source, &e));
             bail!("{source} was rejected");
         }
-    };
-    let threads = match args.threads {
+    }
+}
+
+/// `--threads`, or every core.
+pub fn thread_count(threads: Option<usize>) -> anyhow::Result<usize> {
+    match threads {
         Some(0) => bail!("--threads must be at least 1"),
-        Some(n) => n,
-        None => cores(),
-    };
+        Some(n) => Ok(n),
+        None => Ok(cores()),
+    }
+}
+
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let (case, source) = read_case(&args.case, args.max_particles)?;
+    let threads = thread_count(args.threads)?;
     let out_dir = args
         .out
         .clone()

@@ -186,3 +186,52 @@ fn run_prices_the_error_bar_with_rungs_that_are_runs_of_their_own() {
     assert!(low <= rungs[2].1 && rungs[2].1 <= high, "{bar}");
     assert!(bar["cost_s"].as_f64().unwrap() > 0.0);
 }
+
+/// `crush estimate` answers as `POST /v1/estimate` does, without running: one particle through
+/// the wall is foretold not trusted. A rejected case names its field and ends with one line of
+/// error, no backtrace, even with `RUST_BACKTRACE` set.
+#[test]
+fn estimate_tells_the_cost_and_the_verdict_before_a_run_and_errors_carry_no_backtrace() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("coarse.json");
+    std::fs::write(
+        &path,
+        r#"{"discretization": {"particles_through_thickness": 1}}"#,
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+        .args(["estimate", "--json", "--threads", "2"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let e: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(e["threads"], 2);
+    assert!(e["particles"].as_u64().unwrap() > 0, "{e}");
+    assert_eq!(e["verdict"]["level"], "not_trusted", "{e}");
+    assert_eq!(e["verdict"]["reasons"][0]["rule"], "thin_resolution", "{e}");
+    assert!(
+        !dir.path().join("coarse").exists(),
+        "an estimate writes nothing"
+    );
+
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, r#"{"tube": {"thickness_mm": -1}}"#).unwrap();
+    for command in ["estimate", "run"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_crush"))
+            .env("RUST_BACKTRACE", "1")
+            .arg(command)
+            .arg(&bad)
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("tube.thickness_mm: must be"), "{stderr}");
+        assert!(stderr.trim_end().ends_with("was rejected"), "{stderr}");
+        assert!(!stderr.contains("backtrace"), "{stderr}");
+    }
+}
