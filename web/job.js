@@ -246,6 +246,7 @@ async function showResult(job, set, side, below) {
       lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
     el("h2", {}, "Case"), caseTable(job.case || {}, s));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
+  const energyBox = el("div", { class: "chart", id: "energy-curve" });
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),
     keepsState
@@ -257,6 +258,7 @@ async function showResult(job, set, side, below) {
         },
       }))
       : el("p", { class: "muted" }, "This case did not keep its final state (output.final_state = false)."),
+    el("h2", {}, "Energy against plate travel"), energyBox,
     el("h2", {}, "Downloads"),
     el("p", { class: "downloads" },
       el("a", { href: job.links.history + "?format=csv", download: `${job.id}-history.csv` }, "history (CSV)"),
@@ -264,4 +266,14 @@ async function showResult(job, set, side, below) {
       keepsState ? el("a", { href: job.links.state, download: `${job.id}.vtu` }, "final particle state (VTU, ParaView)") : null,
       el("a", { href: job.links.plot, download: `${job.id}-load.svg` }, "load curve (SVG)")),
     el("details", {}, el("summary", {}, "Case as submitted"), el("pre", {}, JSON.stringify(job.case, null, 2))));
+  // The plates' work and what the wall dissipated of it (plastic work + friction), J.
+  const at = (n) => (h.ok ? h.data.columns.indexOf(n) : -1);
+  const [u, w, pl, fr] = ["displacement_mm", "external_mj", "plastic_mj", "friction_mj"].map(at);
+  if ([u, w, pl, fr].every((i) => i >= 0)) {
+    const rows = h.data.rows;
+    lineChart(energyBox, { xLabel: "plate travel, mm", yLabel: "energy, J", names: ["work of the plates, J", "dissipated: plastic + friction, J"] })
+      .set([rows.map((r) => r[u]), rows.map((r) => r[w] / 1000), rows.map((r) => (r[pl] + r[fr]) / 1000)]);
+  } else {
+    energyBox.replaceChildren(el("p", { class: "muted" }, "No energy history."));
+  }
 }

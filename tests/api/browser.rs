@@ -184,6 +184,8 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     // The curve holds the whole history; the tube picture has loaded; the summary is there.
     let points = until(&c, "const p = Number(document.getElementById('curve').dataset.points); return p >= 200 ? p : 0;", long, "the full curve").await;
     assert!(points.as_f64().unwrap() >= 200.0);
+    // The energy curve beside it: the plates' work and what the wall dissipated, every row.
+    until(&c, "const p = Number((document.getElementById('energy-curve') || {dataset: {}}).dataset.points); return p >= 200 ? p : 0;", long, "the energy curve").await;
     assert_eq!(
         js(
             &c,
