@@ -220,40 +220,23 @@ pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
         });
     }
     let e = summary.energy_balance_error;
-    if e > BALANCE_CAUTION {
+    if let Some((level, over)) = graded(e, BALANCE_CAUTION, BALANCE_NOT_TRUSTED) {
         reasons.push(Reason {
             rule: Rule::EnergyBalance,
-            level: if e > BALANCE_NOT_TRUSTED {
-                Level::NotTrusted
-            } else {
-                Level::Caution
-            },
+            level,
             detail: format!(
                 "the energy books close to {:.1} % of the plates' work (over {:.0} % is {})",
                 100.0 * e,
-                100.0
-                    * if e > BALANCE_NOT_TRUSTED {
-                        BALANCE_NOT_TRUSTED
-                    } else {
-                        BALANCE_CAUTION
-                    },
-                if e > BALANCE_NOT_TRUSTED {
-                    "not trusted"
-                } else {
-                    "caution"
-                }
+                100.0 * over,
+                level.name().replace('_', " ")
             ),
         });
     }
     let k = summary.kinetic_to_internal;
-    if k > KINETIC_CAUTION {
+    if let Some((level, _)) = graded(k, KINETIC_CAUTION, KINETIC_NOT_TRUSTED) {
         reasons.push(Reason {
             rule: Rule::NotQuasiStatic,
-            level: if k > KINETIC_NOT_TRUSTED {
-                Level::NotTrusted
-            } else {
-                Level::Caution
-            },
+            level,
             detail: format!(
                 "kinetic energy reaches {:.0} % of the internal energy in the second half of the \
                  crush: inertia carries part of the load (slow the plate or lengthen the crush)",
@@ -262,6 +245,18 @@ pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
         });
     }
     Verdict::of(reasons)
+}
+
+/// The level of a figure with two thresholds, and the threshold it passed: none at or below
+/// `caution`, caution up to `not_trusted`, not trusted beyond.
+fn graded(value: f64, caution: f64, not_trusted: f64) -> Option<(Level, f64)> {
+    if value > not_trusted {
+        Some((Level::NotTrusted, not_trusted))
+    } else if value > caution {
+        Some((Level::Caution, caution))
+    } else {
+        None
+    }
 }
 
 /// Alexander's fold length 2H for the wall, mm: the H that minimises his mean load (bending of

@@ -173,14 +173,9 @@ impl Law for Metal {
         at: Point<T>,
     ) -> Increment<T> {
         let c = T::splat;
-        let two = c(2.0);
         let trial = trial((self.lambda, self.shear), stress, l, dt);
+        let q = trial.von_mises();
         let mut s = trial.deviator;
-        let norm2 = s[0] * s[0]
-            + s[1] * s[1]
-            + s[2] * s[2]
-            + two * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
-        let q = (c(1.5) * norm2).sqrt();
         let plastic_strain = T::each([q, at.plastic_strain, at.strength_scale], |[q, e, s]| {
             self.plastic_increment(q, e, dt, s)
         });

@@ -290,6 +290,18 @@ pub fn trial<T: Lanes>(
 }
 
 impl<T: Lanes> Trial<T> {
+    /// The von Mises stress of the deviatoric trial, q = √(3/2 s:s), MPa.
+    #[inline(always)]
+    pub fn von_mises(&self) -> T {
+        let c = T::splat;
+        let s = &self.deviator;
+        let norm2 = s[0] * s[0]
+            + s[1] * s[1]
+            + s[2] * s[2]
+            + c(2.0) * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+        (c(1.5) * norm2).sqrt()
+    }
+
     /// The stress of the returned `deviator` (the trial's pressure added back) into `stress`,
     /// and the step's trapezoidal stress power density, MPa/ms.
     #[inline(always)]
