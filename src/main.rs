@@ -1,4 +1,4 @@
-//! `crush serve | run | estimate | bench | study`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | estimate | bench | study | openapi`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -23,6 +23,9 @@ enum Command {
     Estimate(crush::cli::EstimateArgs),
     /// Accuracy and stability studies: convergence, stability, speed.
     Study(crush::cli::StudyArgs),
+    /// Print the HTTP contract (OpenAPI 3.1, YAML): api/paths.yaml's prose with the schemas
+    /// generated from the types; `api/openapi.yaml` is this output.
+    Openapi,
     /// Measure solver speed (particle-steps/s), time per phase and memory per particle.
     Bench(crush::cli::BenchArgs),
     /// One bench measurement (used by `bench`; reads the case on stdin).
@@ -54,6 +57,10 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Run(args) => crush::cli::run(args),
         Command::Estimate(args) => crush::cli::estimate(args),
         Command::Bench(args) => crush::cli::bench(args),
+        Command::Openapi => {
+            print!("{}", crush::service::contract::yaml());
+            Ok(())
+        }
         Command::Study(args) => crush::cli::study(args),
         Command::BenchOne(args) => crush::cli::bench_one(args),
     }

@@ -5,6 +5,7 @@ use crate::solver::model::input::clip;
 use crate::solver::{CaseError, FieldError};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
+use schemars::JsonSchema;
 use serde::Serialize;
 
 pub const PROBLEM_JSON: &str = "application/problem+json";
@@ -71,13 +72,15 @@ fn too_large(limit: usize) -> String {
 }
 
 /// The problem document (RFC 9457) with our two extension members.
-#[derive(Debug, Serialize)]
-struct Problem<'a> {
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(description = "RFC 9457 problem details")]
+pub(crate) struct Problem<'a> {
     #[serde(rename = "type")]
     kind: &'a str,
     title: &'a str,
     status: u16,
     detail: String,
+    /// The field of a 400 (dotted path, or a header or query parameter name).
     #[serde(skip_serializing_if = "Option::is_none")]
     field: Option<&'a str>,
     #[serde(skip_serializing_if = "Option::is_none")]

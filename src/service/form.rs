@@ -1,20 +1,27 @@
 //! The crush-case form as data (`GET /v1/case/fields`): every field of a case with its label,
-//! unit, default (read off [`CaseSpec::default`], so it cannot drift) and the bounds that
-//! `Case::parse` enforces on it alone. The web page builds its form from this and checks the
-//! bounds in the browser; the checks that tie fields together (wall thinner than half the
-//! diameter, crush shorter than the tube, plate slower than half the wave speed, the particle
-//! limit) it leaves to the server, which it asks as the user types (`POST /v1/estimate`).
-//! A test below holds every bound here to what `Case::parse` accepts and refuses.
+//! unit, default (read off [`CaseSpec::default`]), the bounds that `Case::parse` enforces on it
+//! alone, its choices and its help — all read off the case's JSON Schema, which the contract
+//! serves too ([`crate::solver::model::schema`]: the titles are the labels, `x-unit` the units,
+//! the descriptions the help). The web page builds its form from this and checks the bounds in
+//! the browser; the checks that tie fields together (wall thinner than half the diameter,
+//! crush shorter than the tube, plate slower than half the wave speed, the particle limit) it
+//! leaves to the server, which it asks as the user types (`POST /v1/estimate`). A test below
+//! holds every bound to what `Case::parse` accepts and refuses.
 
 use crate::solver::model::material::preset::Preset;
+use crate::solver::model::spec::full_case;
 use crate::solver::CaseSpec;
+use schemars::generate::SchemaSettings;
+use schemars::JsonSchema;
 use serde::Serialize;
-use serde_json::Value;
+use serde_json::{Map, Value};
 use std::collections::BTreeMap;
+use std::sync::LazyLock;
 
 /// What kind of input a field takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum Kind {
     Number,
     Integer,
@@ -26,14 +33,16 @@ pub enum Kind {
 }
 
 /// One field of the form.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+#[schemars(rename = "CaseField")]
 pub struct Field {
     /// Dotted path in the case JSON.
-    pub field: &'static str,
-    pub label: &'static str,
+    pub field: String,
+    pub label: String,
     /// Unit, empty when the field has none.
-    pub unit: &'static str,
+    pub unit: String,
     pub kind: Kind,
+    /// The server's default; null when the server picks (optional fields).
     pub default: Value,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min: Option<f64>,
@@ -42,112 +51,96 @@ pub struct Field {
     /// The bound itself is refused (`> min` rather than `>= min`).
     pub min_exclusive: bool,
     pub max_exclusive: bool,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    pub choices: &'static [&'static str],
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub choices: Vec<String>,
     /// May be left empty (the server then picks, as `help` says).
     pub optional: bool,
-    pub help: &'static str,
+    pub help: String,
     /// For a material field: its value in each preset that sets it (preset name → value), so
     /// that the form can show what a preset fills in.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub presets: BTreeMap<&'static str, Value>,
 }
 
-struct Spec {
-    field: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    kind: Kind,
-    /// (min, exclusive)
-    min: Option<(f64, bool)>,
-    max: Option<(f64, bool)>,
-    choices: &'static [&'static str],
-    help: &'static str,
-}
-
-const fn num(
-    field: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    min: Option<(f64, bool)>,
-    max: Option<(f64, bool)>,
-    help: &'static str,
-) -> Spec {
-    Spec {
-        field,
-        label,
-        unit,
-        kind: Kind::Number,
-        min,
-        max,
-        choices: &[],
-        help,
-    }
-}
-
-const fn other(
-    field: &'static str,
-    label: &'static str,
-    kind: Kind,
-    choices: &'static [&'static str],
-    help: &'static str,
-) -> Spec {
-    Spec {
-        field,
-        label,
-        unit: "",
-        kind,
-        min: None,
-        max: None,
-        choices,
-        help,
-    }
-}
-
-const POSITIVE: Option<(f64, bool)> = Some((0.0, true));
-
-const SPECS: &[Spec] = &[
-    other("label", "Label", Kind::Text, &[], "Free text, at most 200 characters; kept with the job."),
-    num("tube.thickness_mm", "Wall thickness t", "mm", POSITIVE, None, "Less than half the mean diameter."),
-    num("tube.mean_diameter_mm", "Mean diameter d", "mm", POSITIVE, None, "Measured at the wall's mid-surface."),
-    num("tube.length_mm", "Length l", "mm", POSITIVE, None, "Along the tube axis."),
-    other("material.preset", "Material preset", Kind::Choice, &["pvc", "aa6060_t5", "aa6061_t6", "mild_steel"], "Fills every material field left as it is; empty: the paper's PVC. Sources: docs/materials.md."),
-    other("material.model", "Material model", Kind::Choice, &["j2", "elastic"], "j2: von Mises plasticity, perfectly plastic unless a hardening or rate law is set; elastic never yields."),
-    num("material.youngs_modulus_mpa", "Young's modulus E", "MPa", POSITIVE, None, ""),
-    num("material.poisson_ratio", "Poisson's ratio ν", "", Some((-0.99, false)), Some((0.4999, false)), ""),
-    num("material.yield_stress_mpa", "Yield stress σy", "MPa", POSITIVE, None, "The flow stress at zero plastic strain and a static rate; with a curve, its first stress."),
-    num("material.density_kg_m3", "Density ρ", "kg/m³", POSITIVE, None, ""),
-    other("material.hardening", "Hardening", Kind::Choice, &["none", "table", "swift", "ludwik"], "Empty: the preset's (none for PVC). table: the curve below; swift: K (ε₀ + εp)ⁿ from σy; ludwik: σy + K εpⁿ."),
-    other("material.hardening_curve", "Hardening curve", Kind::Curve, &[], "True stress against equivalent plastic strain, \"εp σ\" pairs separated by commas, from εp = 0 (at σy); strains increasing, stresses not decreasing; at most 100 points."),
-    other("material.hardening_extrapolation", "Past the curve's end", Kind::Choice, &["flat", "last_slope"], "Empty: flat (the last stress)."),
-    num("material.hardening_k_mpa", "Hardening K", "MPa", POSITIVE, None, "Swift or Ludwik."),
-    num("material.hardening_n", "Hardening exponent n", "", POSITIVE, Some((1.0, false)), "Swift or Ludwik."),
-    other("material.rate", "Strain-rate law", Kind::Choice, &["none", "cowper_symonds", "johnson_cook"], "Empty: the preset's (none for PVC). cowper_symonds: σ × (1 + (ε̇p/D)^(1/q)); johnson_cook: σ × (1 + C ln(ε̇p/ε̇₀)), 1 below ε̇₀."),
-    num("material.cowper_symonds_d_per_s", "Cowper–Symonds D", "1/s", POSITIVE, None, ""),
-    num("material.cowper_symonds_q", "Cowper–Symonds q", "", Some((1.0, false)), Some((100.0, false)), ""),
-    num("material.johnson_cook_c", "Johnson–Cook C", "", Some((0.0, false)), Some((1.0, false)), ""),
-    num("material.johnson_cook_reference_rate_per_s", "Johnson–Cook ε̇₀", "1/s", POSITIVE, None, "The reference (quasi-static) rate."),
-    other("loading.mode", "Loading", Kind::Choice, &["axial", "lateral"], "Axial: plates normal to the axis. Lateral: the tube lies between the plates."),
-    num("loading.plate_speed_m_s", "Plate speed", "m/s", POSITIVE, None, "Below half the material's wave speed."),
-    num("loading.crush_distance_mm", "Crush distance", "mm", POSITIVE, None, "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral); at least the plate's travel while a stress wave crosses one grid cell."),
-    num("loading.ramp_mm", "Start ramp", "mm", Some((0.0, false)), None, "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Empty: 0.5 mm, or half the crush distance if less. At most the crush distance."),
-    num("contact.friction", "Plate friction μ", "", Some((0.0, false)), Some((2.0, false)), "Coulomb friction between tube and plates."),
-    Spec { kind: Kind::Integer, ..num("discretization.particles_through_thickness", "Particles through the wall n", "", Some((1.0, false)), Some((64.0, false)), "Spacing h = t / n. At most 16 in 3D (cost about n⁴), 64 in the reduced models (cost about n³).") },
-    num("discretization.cell_to_particle_ratio", "Cell size / spacing k", "", Some((1.0, false)), Some((4.0, false)), ""),
-    num("discretization.cfl", "CFL number α", "", POSITIVE, Some((1.0, false)), "Δt = α · cell / max(c + |v|)."),
-    other("discretization.shape", "Shape functions", Kind::Choice, &["gimp", "linear"], "gimp: uniform GIMP; linear: trilinear hats. Empty (auto): linear for a thin wall (d/t >= 8) in 3D, else gimp; the estimate says which."),
-    other("discretization.model", "Model", Kind::Choice, &["3d", "axisymmetric", "plane_strain"], "3d: the whole tube. axisymmetric (axial, no trigger): the (r, z) section, ring folding only, seconds instead of minutes. plane_strain (lateral, no trigger): the cross-section, no end effects."),
-    other("discretization.volumetric_averaging", "Volumetric averaging", Kind::Boolean, &[], "One volumetric strain rate per cell, against locking."),
-    num("trigger.weak_fraction", "Weak-particle fraction", "", Some((0.0, false)), Some((0.1, false)), "0 disables the trigger."),
-    num("trigger.strength_ratio", "Weak-particle strength ratio", "", POSITIVE, Some((1.0, false)), "Yield stress of a weak particle over σy."),
-    Spec { kind: Kind::Integer, ..num("trigger.seed", "Trigger seed", "", Some((0.0, false)), None, "Seed of the random choice of weak particles.") },
-    Spec { kind: Kind::Integer, ..num("output.history_points", "History points", "", Some((10.0, false)), Some((100000.0, false)), "Rows of the load history, at equal plate travel.") },
-    other("output.final_state", "Keep the final state", Kind::Boolean, &[], "Needed for the deformed-tube picture and the VTU file; 16 bytes a particle."),
-    other("output.error_bar", "Error bar", Kind::Boolean, &[], "After the run, price the mean load's discretization error with the tube's section at three resolutions (n or 8, 1.5x, 2x). Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."),
-];
-
-/// Every field of the form, in display order.
+/// Every field of the form, in the order the case's types declare them.
 pub fn fields() -> Vec<Field> {
+    static FIELDS: LazyLock<Vec<Field>> = LazyLock::new(derive_fields);
+    FIELDS.clone()
+}
+
+/// The case's schemas by name, as the server reads a case.
+fn case_schemas() -> Map<String, Value> {
+    let mut generator = SchemaSettings::draft2020_12()
+        .with(|s| s.definitions_path = "/$defs".into())
+        .into_generator();
+    generator.subschema_for::<CaseSpec>();
+    generator.take_definitions(true)
+}
+
+/// A property's schema with `$ref`s followed and a nullable `anyOf [X, null]` read as X.
+fn resolved<'a>(schema: &'a Value, schemas: &'a Map<String, Value>) -> &'a Value {
+    if let Some(name) = schema
+        .get("$ref")
+        .and_then(Value::as_str)
+        .and_then(|r| r.rsplit('/').next())
+    {
+        return schemas.get(name).map_or(schema, |s| resolved(s, schemas));
+    }
+    if let Some(Value::Array(any)) = schema.get("anyOf") {
+        if let Some(s) = any.iter().find(|s| s.get("type") != Some(&"null".into())) {
+            return resolved(s, schemas);
+        }
+    }
+    schema
+}
+
+/// The schema's own type, `null` aside.
+fn type_of(schema: &Value) -> &str {
+    match schema.get("type") {
+        Some(Value::String(t)) => t,
+        Some(Value::Array(t)) => t
+            .iter()
+            .filter_map(Value::as_str)
+            .find(|t| *t != "null")
+            .unwrap_or(""),
+        _ => "",
+    }
+}
+
+fn text(schema: &Value, key: &str) -> String {
+    schema
+        .get(key)
+        .and_then(Value::as_str)
+        .unwrap_or("")
+        .to_string()
+}
+
+/// The case's fields in declaration order: (section or `None` for a top-level field, name).
+fn ordered_paths() -> Vec<(Option<String>, String)> {
+    // A YAML mapping keeps its keys in the order the serializer wrote them, which is the
+    // types' declaration order (a JSON object here is sorted).
+    let Ok(serde_yaml_ng::Value::Mapping(sections)) = serde_yaml_ng::to_value(full_case()) else {
+        return Vec::new();
+    };
+    let mut paths = Vec::new();
+    for (section, value) in sections {
+        let section = section.as_str().unwrap_or_default().to_string();
+        match value {
+            serde_yaml_ng::Value::Mapping(fields) => paths.extend(
+                fields
+                    .keys()
+                    .filter_map(|k| k.as_str())
+                    .map(|k| (Some(section.clone()), k.to_string())),
+            ),
+            _ => paths.push((None, section)),
+        }
+    }
+    paths
+}
+
+fn derive_fields() -> Vec<Field> {
+    let schemas = case_schemas();
+    let case = schemas.get("Case").cloned().unwrap_or(Value::Null);
     let defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
     let presets: Vec<(&'static str, Value)> = Preset::ALL
         .iter()
@@ -158,37 +151,73 @@ pub fn fields() -> Vec<Field> {
             )
         })
         .collect();
-    SPECS
-        .iter()
-        .map(|s| {
-            let pointer = format!("/{}", s.field.replace('.', "/"));
-            // Only the fields the server fills in itself (label, crush distance, start ramp,
-            // shape functions, the material's preset and the laws a preset may fill) have no
-            // default in the serialized case: those are the optional ones.
-            let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
-            Field {
-                field: s.field,
-                label: s.label,
-                unit: s.unit,
-                kind: s.kind,
-                optional: default.is_null(),
-                default,
-                min: s.min.map(|m| m.0),
-                max: s.max.map(|m| m.0),
-                min_exclusive: s.min.is_some_and(|m| m.1),
-                max_exclusive: s.max.is_some_and(|m| m.1),
-                choices: s.choices,
-                help: s.help,
-                presets: match s.field.strip_prefix("material.") {
-                    Some(name) if name != "preset" => presets
-                        .iter()
-                        .filter_map(|(p, m)| m.get(name).map(|v| (*p, v.clone())))
-                        .collect(),
-                    _ => BTreeMap::new(),
-                },
+    let mut out = Vec::new();
+    for (section, name) in ordered_paths() {
+        let (field, raw) = match &section {
+            Some(section) => {
+                let section_schema = resolved(&case["properties"][section], &schemas);
+                (
+                    format!("{section}.{name}"),
+                    section_schema["properties"][&name].clone(),
+                )
             }
-        })
-        .collect()
+            None => (name.clone(), case["properties"][&name].clone()),
+        };
+        let schema = resolved(&raw, &schemas);
+        let choices: Vec<String> = schema
+            .get("enum")
+            .and_then(Value::as_array)
+            .map(|e| {
+                e.iter()
+                    .filter_map(|c| c.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let kind = match (type_of(schema), choices.is_empty()) {
+            (_, false) => Kind::Choice,
+            ("number", _) => Kind::Number,
+            ("integer", _) => Kind::Integer,
+            ("boolean", _) => Kind::Boolean,
+            ("array", _) => Kind::Curve,
+            _ => Kind::Text,
+        };
+        let bound = |inclusive: &str, exclusive: &str| match (
+            schema.get(inclusive).and_then(Value::as_f64),
+            schema.get(exclusive).and_then(Value::as_f64),
+        ) {
+            (_, Some(b)) => (Some(b), true),
+            (b, None) => (b, false),
+        };
+        let (min, min_exclusive) = bound("minimum", "exclusiveMinimum");
+        let (max, max_exclusive) = bound("maximum", "exclusiveMaximum");
+        // Only the fields the server fills in itself (label, crush distance, start ramp,
+        // shape functions, the material's preset and the laws a preset may fill) have no
+        // default in the serialized case: those are the optional ones.
+        let pointer = format!("/{}", field.replace('.', "/"));
+        let default = defaults.pointer(&pointer).cloned().unwrap_or(Value::Null);
+        out.push(Field {
+            label: text(&raw, "title"),
+            unit: text(&raw, "x-unit"),
+            help: text(&raw, "description"),
+            kind,
+            optional: default.is_null(),
+            default,
+            min,
+            max,
+            min_exclusive,
+            max_exclusive,
+            choices,
+            presets: match field.strip_prefix("material.") {
+                Some(name) if name != "preset" => presets
+                    .iter()
+                    .filter_map(|(p, m)| m.get(name).map(|v| (*p, v.clone())))
+                    .collect(),
+                _ => BTreeMap::new(),
+            },
+            field,
+        });
+    }
+    out
 }
 
 #[cfg(test)]
@@ -279,7 +308,10 @@ mod tests {
     #[test]
     fn every_default_is_the_case_default_and_is_accepted() {
         let fields = fields();
-        assert_eq!(fields.len(), SPECS.len());
+        assert_eq!(
+            fields.len(),
+            crate::solver::model::case::field_paths().len()
+        );
         for f in &fields {
             if f.optional {
                 continue;
@@ -290,7 +322,7 @@ mod tests {
         let optional: Vec<&str> = fields
             .iter()
             .filter(|f| f.optional)
-            .map(|f| f.field)
+            .map(|f| f.field.as_str())
             .collect();
         assert_eq!(
             optional,
@@ -344,7 +376,7 @@ mod tests {
                 f.max.map(|m| (m, f.max_exclusive, m + step)),
             ];
             for (bound, exclusive, outside) in bounds.into_iter().flatten() {
-                let name = f.field;
+                let name = f.field.as_str();
                 assert_eq!(
                     refused_for(name, bound, integer),
                     exclusive,
@@ -355,101 +387,58 @@ mod tests {
         }
     }
 
-    /// `api/openapi.yaml`'s schema of the field at a dotted path.
-    fn contract_schema(doc: &serde_yaml_ng::Value, field: &str) -> serde_yaml_ng::Value {
-        let mut at = &doc["components"]["schemas"]["Case"];
-        for part in field.split('.') {
-            at = &at["properties"][part];
-        }
-        at.clone()
-    }
-
     #[test]
-    fn the_contract_carries_every_bound_of_this_table() {
-        // One source for both: the schema's bounds, types, choices and defaults are the ones
-        // this table serves (and the test above holds to the server).
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
-        let doc: serde_yaml_ng::Value =
-            serde_yaml_ng::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let num = |v: &serde_yaml_ng::Value| v.as_f64();
-        for f in fields() {
-            let s = contract_schema(&doc, f.field);
-            let name = f.field;
-            assert!(!s.is_null(), "{name} is not in the contract");
-            let kind = match f.kind {
-                Kind::Number => "number",
-                Kind::Integer => "integer",
-                Kind::Choice | Kind::Text => "string",
-                Kind::Boolean => "boolean",
-                Kind::Curve => "array",
-            };
-            let types: Vec<&str> = match &s["type"] {
-                serde_yaml_ng::Value::Sequence(t) => t.iter().filter_map(|t| t.as_str()).collect(),
-                t => t.as_str().into_iter().collect(),
-            };
-            assert_eq!(types[0], kind, "{name}: type");
-            let (min_key, other_min) = match f.min_exclusive {
-                true => ("exclusiveMinimum", "minimum"),
-                false => ("minimum", "exclusiveMinimum"),
-            };
-            assert_eq!(num(&s[min_key]), f.min, "{name}: {min_key}");
-            assert!(s[other_min].is_null(), "{name}: {other_min}");
-            let (max_key, other_max) = match f.max_exclusive {
-                true => ("exclusiveMaximum", "maximum"),
-                false => ("maximum", "exclusiveMaximum"),
-            };
-            assert!(s[other_max].is_null(), "{name}: {other_max}");
-            match (f.max, name) {
-                // u64: the schema's maximum is the type's, which this table leaves open.
-                (None, "trigger.seed") => {
-                    assert_eq!(s["maximum"].as_u64(), Some(u64::MAX), "{name}")
-                }
-                (max, _) => assert_eq!(num(&s[max_key]), max, "{name}: {max_key}"),
-            }
-            let choices: Vec<&str> = s["enum"]
-                .as_sequence()
-                .map_or(vec![], |e| e.iter().filter_map(|c| c.as_str()).collect());
-            assert_eq!(choices, f.choices, "{name}: enum");
-            let default: Value = serde_yaml_ng::from_value(s["default"].clone()).unwrap();
-            let same = match (default.as_f64(), f.default.as_f64()) {
-                (Some(a), Some(b)) => a == b,
-                _ => default == f.default,
-            };
-            assert!(
-                same,
-                "{name}: default {default} in the contract, {} here",
-                f.default
-            );
+    fn each_field_reads_its_label_unit_kind_and_bounds_off_the_types() {
+        let all = fields();
+        let field = |name: &str| all.iter().find(|f| f.field == name).unwrap().clone();
+        for f in &all {
+            assert!(!f.label.is_empty(), "{} has no title", f.field);
         }
-        // Each section and the case itself reject unknown fields, as serde does.
-        let case = &doc["components"]["schemas"]["Case"];
-        assert_eq!(case["additionalProperties"].as_bool(), Some(false));
-        for (section, schema) in case["properties"].as_mapping().unwrap() {
-            if schema["type"].as_str() == Some("object") {
-                assert_eq!(
-                    schema["additionalProperties"].as_bool(),
-                    Some(false),
-                    "{section:?}"
-                );
-            }
-        }
+        let t = field("tube.thickness_mm");
         assert_eq!(
-            contract_schema(&doc, "label")["maxLength"].as_u64(),
-            Some(200)
+            (t.label.as_str(), t.unit.as_str()),
+            ("Wall thickness t", "mm")
         );
+        assert_eq!(
+            (t.kind, t.min, t.min_exclusive, t.max),
+            (Kind::Number, Some(0.0), true, None)
+        );
+        let n = field("discretization.particles_through_thickness");
+        assert_eq!(
+            (n.kind, n.min, n.max),
+            (Kind::Integer, Some(1.0), Some(64.0))
+        );
+        assert!(!n.min_exclusive && !n.max_exclusive);
+        let nu = field("material.poisson_ratio");
+        assert_eq!((nu.min, nu.max), (Some(-0.99), Some(0.4999)));
+        let cfl = field("discretization.cfl");
+        assert_eq!(
+            (cfl.min_exclusive, cfl.max, cfl.max_exclusive),
+            (true, Some(1.0), false)
+        );
+        assert_eq!(field("material.preset").choices.len(), Preset::ALL.len());
+        assert_eq!(field("material.preset").kind, Kind::Choice);
+        assert_eq!(field("material.hardening_curve").kind, Kind::Curve);
+        assert_eq!(field("output.final_state").kind, Kind::Boolean);
+        assert_eq!(field("label").kind, Kind::Text);
+        assert_eq!(field("material.density_kg_m3").unit, "kg/m³");
+        // In the types' order, the case's sections as the page groups them.
+        assert_eq!(all[0].field, "label");
+        assert_eq!(all[1].field, "tube.thickness_mm");
+        assert_eq!(all.last().unwrap().field, "output.error_bar");
     }
 
     #[test]
     fn every_choice_is_accepted_and_others_are_not() {
         for f in fields().into_iter().filter(|f| f.kind == Kind::Choice) {
-            for c in f.choices {
+            for c in &f.choices {
                 assert!(
-                    case_with(f.field, Value::from(*c)).is_ok(),
+                    case_with(&f.field, Value::from(c.as_str())).is_ok(),
                     "{} = {c}",
                     f.field
                 );
             }
-            assert!(case_with(f.field, Value::from("nonsense")).is_err());
+            assert!(case_with(&f.field, Value::from("nonsense")).is_err());
         }
     }
 
@@ -457,7 +446,7 @@ mod tests {
     fn the_form_has_every_field_of_the_case_and_no_other() {
         // `field_paths` is also what a sweep may name.
         let mut paths = crate::solver::model::case::field_paths();
-        let mut form: Vec<String> = SPECS.iter().map(|s| s.field.to_string()).collect();
+        let mut form: Vec<String> = fields().into_iter().map(|f| f.field).collect();
         paths.sort();
         form.sort();
         assert_eq!(form, paths);

@@ -5,6 +5,7 @@ mod bare_errors;
 mod checkpointing;
 mod cluster;
 mod connection;
+pub mod contract;
 mod cpu;
 mod error;
 mod form;

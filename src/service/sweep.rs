@@ -15,6 +15,7 @@ use crate::solver::model::input::{clip, clip_quoted, object_from_str, set_field,
 use crate::solver::model::spec::whole;
 use crate::solver::{Case, CaseError, FieldError, Limits};
 use crate::study::ensemble::SEED_FIELD;
+use schemars::JsonSchema;
 use serde::Deserialize;
 use serde_json::{Map, Value};
 
@@ -23,30 +24,56 @@ use serde_json::{Map, Value};
 const MAX_LABEL_CHARS: usize = 200;
 
 /// The body of `POST /v1/sweeps`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(
+    description = "A base case and the values to vary: `parameters` (every combination), an `ensemble` over trigger seeds, or both (every combination over every seed); one of the two at least (422 on `parameters` otherwise).",
+    example = serde_json::json!({"base": {"tube": {"length_mm": 8}, "discretization": {"particles_through_thickness": 1}, "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20}, "output": {"history_points": 20}}, "parameters": {"loading.plate_speed_m_s": [10, 20]}})
+)]
 pub struct SweepRequest {
+    /// Label of every job whose base case has none.
     #[serde(default)]
+    #[schemars(length(max = 200))]
     pub label: Option<String>,
+    /// The case every job starts from (a Case). Only the whole case of each combination is
+    /// held to the Case schema's bounds: a swept field's value here is replaced.
     #[serde(default = "empty_object")]
+    #[schemars(with = "Map<String, Value>")]
     pub base: Value,
-    /// Field path → values, e.g. `"tube.thickness_mm": [1.27, 2.0, 3.2]`.
+    /// Field of the case (as `GET /v1/case/fields` names it) → non-empty list of values, e.g.
+    /// `"tube.thickness_mm": [1.27, 2.0, 3.2]`. Fields vary in name order, the last fastest.
     #[serde(default)]
+    #[schemars(schema_with = "parameters_schema")]
     pub parameters: Map<String, Value>,
     /// Run every combination over this many trigger seeds, from the base's `trigger.seed` on:
     /// `trigger.seed` becomes the last (fastest) parameter, and the sweep's view reads the
     /// runs as a distribution.
     #[serde(default, deserialize_with = "present")]
+    #[schemars(with = "EnsembleRequest")]
     pub ensemble: Option<EnsembleRequest>,
 }
 
 /// An ensemble over trigger seeds.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EnsembleRequest {
     /// A whole number; `5.0` reads as 5, as JSON Schema's `integer` has it.
     #[serde(deserialize_with = "whole::<_, u64>")]
+    #[schemars(range(min = 2))]
     pub seeds: u64,
+}
+
+/// `parameters`' schema: every field a case can set, each with a non-empty list of values.
+fn parameters_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+    schemars::json_schema!({
+        "type": "object",
+        "propertyNames": { "enum": crate::solver::model::case::field_paths() },
+        "additionalProperties": {
+            "type": "array",
+            "minItems": 1,
+            "items": { "type": ["number", "string", "boolean", "null"] }
+        }
+    })
 }
 
 /// An optional object that, when given, must be one: `null` is a wrong type, not "absent".

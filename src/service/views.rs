@@ -3,12 +3,13 @@
 
 mod sweep;
 
-pub use sweep::{SweepListItem, SweepView};
+pub use sweep::{SweepListItem, SweepPage, SweepView};
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status};
 use crate::solver::analysis::verdict::{self, Verdict};
 use crate::solver::{RunOutput, Summary};
+use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -28,7 +29,7 @@ fn json(text: Option<&str>) -> Option<Value> {
     text.and_then(|t| serde_json::from_str(t).ok())
 }
 
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct JobLinks {
     #[serde(rename = "self")]
     pub this: String,
@@ -43,24 +44,31 @@ pub struct JobLinks {
 }
 
 /// Where a job's checkpoint stands.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct CheckpointView {
     /// Solver steps done.
     pub step: i64,
     /// Share of the crush distance done, 0..1.
     pub fraction: f64,
+    #[schemars(extend("format" = "date-time"))]
     pub written_at: String,
 }
 
 /// A job as the API shows it.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(rename = "Job")]
 pub struct JobView {
     pub id: Uuid,
     pub status: Status,
     pub label: Option<String>,
+    #[schemars(extend("format" = "date-time"))]
     pub created_at: String,
+    #[schemars(extend("format" = "date-time"))]
     pub started_at: Option<String>,
+    #[schemars(extend("format" = "date-time"))]
     pub finished_at: Option<String>,
+    /// Times a worker claimed the job. `--max-attempts` counts only the claims that stored no
+    /// checkpoint: a claim that moved the job on does not use up an attempt.
     pub attempts: i64,
     /// The node that runs the job, or that ran its last claim; null before the first claim.
     pub node: Option<String>,
@@ -68,6 +76,8 @@ pub struct JobView {
     pub owner: Option<String>,
     pub cancel_requested: bool,
     pub particles: i64,
+    /// Latest stored progress (stored about once a second while running).
+    #[schemars(with = "Option<crate::solver::Progress>")]
     pub progress: Option<Value>,
     /// Where the job's checkpoint stands while it has one (queued or running): a job put back
     /// in the queue resumes there instead of starting over.
@@ -75,14 +85,38 @@ pub struct JobView {
     pub error: Option<String>,
     pub sweep_id: Option<Uuid>,
     /// The values this job takes from its sweep, field → value.
+    #[schemars(with = "Option<serde_json::Map<String, Value>>")]
     pub sweep_values: Option<Value>,
+    /// The case as submitted (single-job reads only).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "crate::solver::CaseSpec")]
     pub case: Option<Value>,
     pub summary: Option<Summary>,
     /// How far to trust the result: the summary's verdict, or not trusted for a run that failed
     /// on a blow-up; null while it runs and for a result stored before there were verdicts.
     pub verdict: Option<Verdict>,
     pub links: JobLinks,
+}
+
+/// A page of the job list.
+#[derive(Debug, Serialize, JsonSchema)]
+pub struct JobPage {
+    pub jobs: Vec<JobView>,
+    /// Pass as `cursor` for the next page; null on the last.
+    pub next_cursor: Option<String>,
+    /// Every job in the store by status, whatever the filters.
+    pub counts: std::collections::BTreeMap<String, i64>,
+}
+
+/// A job's load history as JSON.
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(rename = "History")]
+pub struct HistoryView<'a> {
+    pub job_id: Uuid,
+    /// The name of each column, with its unit.
+    pub columns: &'static [&'static str],
+    /// One array of numbers per history point, in `columns` order.
+    pub rows: &'a [Vec<f64>],
 }
 
 impl JobView {
@@ -203,52 +237,8 @@ mod tests {
     }
 
     /// The keys of a JSON object and, one level down, of its objects (`cost.steps`).
-    fn keys(v: &Value) -> std::collections::BTreeSet<String> {
-        let mut out = std::collections::BTreeSet::new();
-        for (k, inner) in v.as_object().unwrap() {
-            out.insert(k.clone());
-            if let Some(o) = inner.as_object() {
-                out.extend(o.keys().map(|i| format!("{k}.{i}")));
-            }
-        }
-        out
-    }
-
-    #[test]
-    fn the_contract_describes_the_summary_the_views_serialize() {
-        // The views carry the typed summary; its JSON is what `api/openapi.yaml` documents.
-        // Every documented field must exist (a renamed field fails here), and every field the
-        // summary has is documented (a new one too). `references` is documented as an object
-        // only (its loads depend on the loading mode), `mode.lobes` only for diamonds, and
-        // `error_bar` as one of its variants (each with its own fields).
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
-        let doc: Value = serde_yaml_ng::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let schema = &doc["components"]["schemas"]["Summary"]["properties"];
-        let mut documented = std::collections::BTreeSet::new();
-        for (k, inner) in schema.as_object().unwrap() {
-            documented.insert(k.clone());
-            // A field described by a shared schema: read that one's properties.
-            let inner = match inner.get("$ref").and_then(Value::as_str) {
-                Some(r) => &doc["components"]["schemas"][r.rsplit('/').next().unwrap()],
-                None => inner,
-            };
-            if let Some(o) = inner.get("properties").and_then(Value::as_object) {
-                documented.extend(o.keys().map(|i| format!("{k}.{i}")));
-            }
-        }
-        let mut s = crate::service::store::sample_summary();
-        s.mode = crate::solver::CollapseMode::Diamond { lobes: 3 };
-        let view = serde_json::to_value(&s).unwrap();
-        let served: std::collections::BTreeSet<String> = keys(&view)
-            .into_iter()
-            .filter(|k| !k.starts_with("references.") && !k.starts_with("error_bar."))
-            .collect();
-        assert_eq!(documented, served);
-    }
-
-    #[test]
-    fn a_job_that_failed_on_a_blow_up_is_not_trusted_and_other_failures_say_nothing() {
-        let record = |status, error: Option<&str>| JobRecord {
+    fn record(status: Status, error: Option<&str>) -> JobRecord {
+        JobRecord {
             seq: 1,
             id: Uuid::new_v4(),
             status,
@@ -268,7 +258,46 @@ mod tests {
             checkpoint: None,
             owner: None,
             summary: None,
-        };
+        }
+    }
+
+    #[test]
+    fn the_contract_describes_the_jobs_and_summaries_the_views_serialize() {
+        use crate::service::contract::tests::assert_valid;
+        // Every variant of the summary's tagged parts: a diamond mode, both error bars.
+        let mut s = crate::service::store::sample_summary();
+        s.mode = crate::solver::CollapseMode::Diamond { lobes: 3 };
+        assert_valid("Summary", &serde_json::to_value(&s).unwrap());
+        s.error_bar = None;
+        s.verdict = None;
+        s.shape = None;
+        s.mode = crate::solver::CollapseMode::TippedOver;
+        assert_valid("Summary", &serde_json::to_value(&s).unwrap());
+
+        let mut done = record(Status::Succeeded, None);
+        done.summary = Some(crate::service::store::sample_summary());
+        done.progress_json = Some(
+            r#"{"step":3,"time_ms":0.1,"displacement_mm":1.0,"load_n":2.0,"fraction":0.5,"elapsed_s":1.0,"eta_s":1.0}"#
+                .into(),
+        );
+        done.started_at = Some(1);
+        done.finished_at = Some(2);
+        for (r, with_case) in [(done, true), (record(Status::Queued, None), false)] {
+            assert_valid(
+                "Job",
+                &serde_json::to_value(JobView::new(&r, with_case)).unwrap(),
+            );
+        }
+        // A schema that describes nothing would pass everything: this one refuses a job
+        // without its id.
+        let mut broken =
+            serde_json::to_value(JobView::new(&record(Status::Queued, None), false)).unwrap();
+        broken.as_object_mut().unwrap().remove("id");
+        assert!(crate::service::contract::tests::errors("Job", &broken).is_some());
+    }
+
+    #[test]
+    fn a_job_that_failed_on_a_blow_up_is_not_trusted_and_other_failures_say_nothing() {
         let blow_up = "unstable at step 40 (t = 0.010000 ms): a non-finite stress at particle 7";
         let v = JobView::new(&record(Status::Failed, Some(blow_up)), false)
             .verdict

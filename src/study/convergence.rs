@@ -7,10 +7,11 @@
 //! particle spacing, so h ∝ cell size).
 
 pub use crate::solver::analysis::richardson::{richardson, Extrapolation, TRUSTED_ORDERS};
+use schemars::JsonSchema;
 use serde::Serialize;
 
 /// One run's figures, as the analysis needs them.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct RunPoint {
     /// Runs with the same group (e.g. shape function) are compared with each other.
     pub group: String,
@@ -43,7 +44,7 @@ impl RunPoint {
 }
 
 /// One run with its errors (relative, signed: (value − target) / target).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct ConvergenceRow {
     #[serde(flatten)]
     pub run: RunPoint,
@@ -57,7 +58,7 @@ pub struct ConvergenceRow {
 }
 
 /// The runs of one group with their errors and extrapolations.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct GroupAnalysis {
     pub group: String,
     pub rows: Vec<ConvergenceRow>,

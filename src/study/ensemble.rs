@@ -8,13 +8,14 @@
 
 use crate::solver::analysis::verdict::Level;
 use crate::solver::{CollapseMode, Summary};
+use schemars::JsonSchema;
 use serde::Serialize;
 
 /// The field an ensemble varies.
 pub const SEED_FIELD: &str = "trigger.seed";
 
 /// Mean, sample standard deviation (n − 1; 0 for one run), min and max of one figure.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 pub struct Spread {
     pub mean: f64,
     pub sd: f64,
@@ -46,7 +47,7 @@ impl Spread {
 }
 
 /// How many runs came out in one mode.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct ModeCount {
     pub mode: CollapseMode,
     pub runs: usize,
@@ -55,7 +56,7 @@ pub struct ModeCount {
 }
 
 /// The distribution of an ensemble's finished runs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct Distribution {
     /// Finished runs read.
     pub runs: usize,

@@ -10,6 +10,7 @@
 //! grafana  read    kq1ZrD7uYp2mXc9vB4nT8wLs
 //! ```
 
+use schemars::JsonSchema;
 use sha2::{Digest, Sha256};
 use subtle::ConstantTimeEq;
 
@@ -21,8 +22,9 @@ pub const MIN_TOKEN_CHARS: usize = 20;
 const MAX_CHARS: usize = 256;
 
 /// What a token may do; each role may do everything the ones before it may.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum Role {
     /// Every GET: jobs, results, event streams, sweeps, metrics.
     Read,

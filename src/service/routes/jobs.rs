@@ -5,7 +5,7 @@ use super::{body_error, json_text, page_limit, parse_id, search_text, AppState, 
 use crate::service::error::ApiError;
 use crate::service::guard::Caller;
 use crate::service::store::{CancelOutcome, Deleted, ListFilter, NewJob, Status, Submitted};
-use crate::service::views::JobView;
+use crate::service::views::{JobPage, JobView};
 use crate::solver::model::case::{object_from_json, spec_from_value};
 use crate::solver::model::input::clip;
 use crate::solver::Case;
@@ -161,14 +161,18 @@ pub async fn list(
     };
     let jobs: Vec<JobView> = records.iter().map(|r| JobView::new(r, false)).collect();
     let stored = s.store.counts().await?;
-    let counts: serde_json::Map<String, Value> = Status::ALL
+    let counts = Status::ALL
         .iter()
         .map(|st| {
             let n = stored.iter().find(|(x, _)| x == st).map_or(0, |(_, n)| *n);
-            (st.as_str().to_string(), n.into())
+            (st.as_str().to_string(), n)
         })
         .collect();
-    let page = serde_json::json!({ "jobs": jobs, "next_cursor": next_cursor, "counts": counts });
+    let page = JobPage {
+        jobs,
+        next_cursor,
+        counts,
+    };
     Ok(Json(page).into_response())
 }
 

@@ -10,6 +10,7 @@ mod session;
 mod sweeps;
 
 pub use results::HEAVY_AT_ONCE;
+pub(crate) use session::{SessionView, SignIn};
 
 use super::connection::{body_deadline, BodyTimedOut};
 use super::error::{ApiError, PROBLEM_JSON};

@@ -8,6 +8,7 @@ use crate::plot;
 use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::store::{JobRecord, Status};
+use crate::service::views::HistoryView;
 use crate::solver::model::case::{spec_from_json, Geometry};
 use crate::solver::HistoryRow;
 use axum::extract::{Extension, Path, Query, State};
@@ -314,11 +315,11 @@ pub async fn history(
         let disposition = format!("inline; filename=\"{id}-history.csv\"");
         ("text/csv; charset=utf-8", Some(disposition), bytes)
     } else {
-        let document = serde_json::json!({
-            "job_id": record.id,
-            "columns": HistoryRow::COLUMNS,
-            "rows": rows,
-        });
+        let document = HistoryView {
+            job_id: record.id,
+            columns: &HistoryRow::COLUMNS,
+            rows: &rows,
+        };
         let bytes = serde_json::to_vec(&document).map_err(ApiError::internal)?;
         ("application/json", None, bytes)
     };

@@ -11,13 +11,15 @@ use axum::extract::{Extension, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// How long the page keeps its token: a lab's browser signs in once a month.
 const KEEP_DAYS: i64 = 30;
 
 /// Who the caller is.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(rename = "Session")]
 pub struct SessionView {
     /// Whether this server asks for tokens at all.
     tokens_required: bool,
@@ -44,9 +46,10 @@ pub async fn show(
     Json(SessionView::new(&s, caller.as_deref()))
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct SignIn {
+pub(crate) struct SignIn {
+    /// The token, as the token file holds it.
     token: String,
 }
 

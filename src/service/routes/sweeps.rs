@@ -10,7 +10,7 @@ use crate::service::error::ApiError;
 use crate::service::guard::{Caller, Role};
 use crate::service::store::{Deleted, NewJob, NewSweep, SweepFilter, SweepSubmitted};
 use crate::service::sweep::{plan, Refusal};
-use crate::service::views::{SweepListItem, SweepView};
+use crate::service::views::{SweepListItem, SweepPage, SweepView};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Extension, Path, Query, State};
@@ -164,7 +164,11 @@ pub async fn list(
         None
     };
     let sweeps: Vec<SweepListItem> = listed.iter().map(SweepListItem::new).collect();
-    Ok(Json(serde_json::json!({ "sweeps": sweeps, "next_cursor": next_cursor })).into_response())
+    Ok(Json(SweepPage {
+        sweeps,
+        next_cursor,
+    })
+    .into_response())
 }
 
 const CURSOR_TAG: &str = "sweeps-before:";

@@ -23,6 +23,7 @@ pub use worker::{Claimed, Reaped, Succeeded};
 
 use crate::solver::Summary;
 use backend::Backend;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sqlx::any::AnyPoolOptions;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode};
@@ -86,8 +87,9 @@ fn transient(e: &sqlx::Error) -> bool {
 pub type Result<T> = std::result::Result<T, StoreError>;
 
 /// A job's state: `queued → running → succeeded | failed | cancelled`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum Status {
     Queued,
     Running,

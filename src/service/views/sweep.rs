@@ -6,6 +6,7 @@ use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
 use crate::solver::Summary;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use crate::study::ensemble::{Distribution, SEED_FIELD};
+use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
 use uuid::Uuid;
@@ -116,12 +117,42 @@ impl TableNumber {
 }
 
 /// A sweep of the list: what it varies and how far its jobs are, without the table.
-#[derive(Debug, Serialize)]
+/// A sweep's `parameters` as shown: `[field, values]` pairs in column order.
+fn parameters_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+    schemars::json_schema!({
+        "type": "array",
+        "items": {
+            "type": "array",
+            "description": "The field, then the list of its values",
+            "minItems": 2,
+            "maxItems": 2,
+            "items": {
+                "anyOf": [
+                    { "type": "string" },
+                    { "type": "array", "items": { "type": ["number", "string", "boolean", "null"] } }
+                ]
+            }
+        }
+    })
+}
+
+/// A page of the sweep list.
+#[derive(Debug, Serialize, JsonSchema)]
+pub struct SweepPage {
+    pub sweeps: Vec<SweepListItem>,
+    /// Pass as `cursor` for the next page; null on the last.
+    pub next_cursor: Option<String>,
+}
+
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct SweepListItem {
     pub id: Uuid,
     pub label: Option<String>,
+    #[schemars(extend("format" = "date-time"))]
     pub created_at: String,
     pub owner: Option<String>,
+    /// `[field, values]` pairs in column order.
+    #[schemars(schema_with = "parameters_schema")]
     pub parameters: Value,
     /// Jobs of the sweep, all states.
     pub jobs: i64,
@@ -129,7 +160,7 @@ pub struct SweepListItem {
     pub links: SweepLinks,
 }
 
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct SweepLinks {
     #[serde(rename = "self")]
     pub this: String,
@@ -167,14 +198,20 @@ impl SweepListItem {
 }
 
 /// A sweep as the API shows it: its parameters, and one table row per job.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
+#[schemars(rename = "Sweep")]
 pub struct SweepView {
     pub id: Uuid,
     pub label: Option<String>,
+    #[schemars(extend("format" = "date-time"))]
     pub created_at: String,
     /// The name of the token that submitted it; null on a server without tokens.
     pub owner: Option<String>,
+    /// `[field, values]` pairs in column order.
+    #[schemars(schema_with = "parameters_schema")]
     pub parameters: Value,
+    /// The sweep's base case, as submitted.
+    #[schemars(with = "serde_json::Map<String, Value>")]
     pub base: Value,
     pub counts: serde_json::Map<String, Value>,
     pub columns: Vec<String>,
@@ -190,7 +227,7 @@ pub struct SweepView {
 }
 
 /// One group of an ensemble: the runs that differ only in their seed.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct EnsembleGroup {
     /// The other swept values, `field=value, …` (empty when only the seed varies).
     pub group: String,
@@ -268,7 +305,7 @@ pub const READ_OFF_TOLERANCE: f64 = 0.05;
 
 /// One group of a resolution sweep: the analysis, and the cheapest run within
 /// [`READ_OFF_TOLERANCE`] of the best estimate.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct GroupView {
     #[serde(flatten)]
     pub analysis: GroupAnalysis,
@@ -276,7 +313,7 @@ pub struct GroupView {
 }
 
 /// The cheapest run within the tolerance, and what its error was measured against.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, JsonSchema)]
 pub struct Cheapest {
     pub n: u32,
     pub wall_time_s: f64,

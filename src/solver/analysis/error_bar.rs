@@ -22,10 +22,11 @@ use crate::solver::model::case::{Case, Limits, LoadingMode, Model};
 use crate::solver::model::ladder::rungs;
 pub use crate::solver::model::ladder::LOWEST_RUNG;
 use crate::solver::CollapseMode;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The error bar of a run's mean load, or why it has none.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "basis", rename_all = "snake_case")]
 pub enum ErrorBar {
     /// Priced by a ladder of the reduced twin.
@@ -35,7 +36,7 @@ pub enum ErrorBar {
 }
 
 /// A ladder's verdict on the converged mean load, N, and on the run's error.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Ladder {
     /// The model the rungs ran in.
     pub model: Model,
@@ -67,7 +68,7 @@ pub struct Ladder {
 }
 
 /// One rung of the ladder.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Rung {
     pub n: u32,
     pub mean_load_n: f64,

@@ -3,6 +3,7 @@
 use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
 use crate::solver::model::ladder::rungs;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::solver::model::case::Limits;
@@ -36,7 +37,7 @@ fn section_particle_steps_per_s(shape: ShapeKind, threads: u32) -> f64 {
 /// cases, where the grid's padded blocks dominate).
 pub const ASSUMED_BYTES_PER_PARTICLE: u64 = 500;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Estimate {
     pub particles: u64,
     /// Background cells holding tube material at the start.
@@ -63,7 +64,7 @@ pub struct Estimate {
 }
 
 /// What the reduced model would cost against 3D, and what it cannot show.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Reduced {
     pub model: Model,
     pub particles: u64,

@@ -6,11 +6,12 @@
 use super::summary::{load_drops, running_energy, EnergyBooks};
 use crate::solver::engine::history::HistoryRow;
 use crate::solver::model::spec::CaseSpec;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// The crash measures of a run (in the summary beside its mean and peak loads).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(default)]
 pub struct Measures {
     /// The tube's mass, g: ρ times the wall's volume π d t l (d the mean diameter).

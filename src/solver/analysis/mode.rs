@@ -48,10 +48,11 @@
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// How the tube collapsed, judged from its final shape.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum CollapseMode {
     /// Axisymmetric concertina folds.
@@ -103,7 +104,7 @@ const MIN_PER_SLICE: usize = 2 * MAX_HARMONIC + 1;
 const MAX_SLICES: usize = 400;
 
 /// Why the mode came out as it did.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct ModeDetail {
     /// Slices holding enough particles to analyse.
     pub slices: u32,

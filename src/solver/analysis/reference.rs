@@ -11,6 +11,7 @@
 //! stress σy (the static flow stress at zero plastic strain).
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -18,7 +19,7 @@ use std::f64::consts::PI;
 pub const DIAMOND_LOBES: std::ops::RangeInclusive<u32> = 2..=5;
 
 /// Which reference a run's mean load should be compared with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Primary {
     /// Axial loading: Alexander's ring-mode mean load.
@@ -39,7 +40,7 @@ impl Primary {
 }
 
 /// Johnson, Soden & Al-Hassani's mean load for one lobe count.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct DiamondReference {
     pub lobes: u32,
     /// A = 1 + n cosec(π/2n) + n cot(π/2n).
@@ -53,7 +54,7 @@ pub struct DiamondReference {
 }
 
 /// The closed-form loads for one case.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct References {
     /// Alexander (1960) ring-mode mean load P̄ = π t σy √(2π t d / √3), N.
     pub alexander_ring_n: f64,
@@ -128,7 +129,7 @@ pub fn references(case: &Case) -> References {
 
 /// The axial closed forms of a round metal tube: static, and dynamic where the material names
 /// a rate law (`None` otherwise). N, mm, 1/s.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct MetalTube {
     /// The flow stress σ0 both take: the case's yield stress, MPa.
     pub flow_stress_mpa: f64,

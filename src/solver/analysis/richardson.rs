@@ -2,10 +2,11 @@
 //! at h → 0 and the observed order of convergence p (f(h) ≈ f* + C·hᵖ). Pure arithmetic on the
 //! figures; the convergence study, the sweep table and the error bar of a run all use it.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// A Richardson extrapolation f(h) ≈ f* + C·hᵖ through the three finest runs.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Extrapolation {
     /// f*, the extrapolated value at h → 0.
     pub value: f64,

@@ -11,9 +11,10 @@ use super::verdict::{self, Verdict};
 use crate::solver::engine::history::HistoryRow;
 use crate::solver::engine::{RunCost, Snapshot};
 use crate::solver::model::case::{Case, LoadingMode, ShapeChoice};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Summary {
     /// P̄ = TEA / crush distance.
     pub mean_load_n: f64,
@@ -66,7 +67,7 @@ pub struct Summary {
 
 /// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
 /// residual, which is the balance's numerical error (`external − booked`).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct EnergyBooks {
     pub work_top_mj: f64,
     pub work_bottom_mj: f64,

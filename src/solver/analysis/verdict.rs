@@ -7,11 +7,15 @@
 use super::mode::CollapseMode;
 use super::summary::Summary;
 use crate::solver::model::case::{Case, LoadingMode, Model};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// How far a result can be trusted, worst last.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
+#[schemars(rename = "VerdictLevel", transform = crate::solver::model::schema::choices)]
 pub enum Level {
     Trusted,
     Caution,
@@ -30,7 +34,7 @@ impl Level {
 }
 
 /// One reason a result is less than trusted.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Reason {
     /// Which rule: a stable name a client can match on.
     pub rule: Rule,
@@ -40,8 +44,9 @@ pub struct Reason {
 }
 
 /// The rules.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum Rule {
     /// Too few particles through the wall to resolve its bending.
     ThinResolution,
@@ -78,7 +83,7 @@ impl Rule {
 }
 
 /// A result's verdict: its level and every reason for it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Verdict {
     pub level: Level,
     pub reasons: Vec<Reason>,

@@ -3,9 +3,10 @@
 
 use crate::solver::engine::checkpoint::Checkpoint;
 use crate::solver::engine::history::HistoryRow;
+use schemars::JsonSchema;
 
 /// A progress report, sent once per history row.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, JsonSchema)]
 pub struct Progress {
     pub step: u64,
     /// Simulated time, ms.

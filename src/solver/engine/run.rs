@@ -14,6 +14,7 @@ use super::solid::Simulation;
 use crate::solver::model::case::Case;
 use crate::solver::model::case::{Model, ShapeKind};
 use crate::solver::Real;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -38,7 +39,7 @@ pub struct Snapshot {
 }
 
 /// What the run cost.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct RunCost {
     pub particles: u64,
     /// Most grid cells active at once.

@@ -1,6 +1,7 @@
 //! What a caller is willing to run ([`Limits`]) and how a case is refused: each rejected field
 //! named with its reason ([`FieldError`], [`CaseError`]).
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -47,7 +48,7 @@ impl Limits {
 }
 
 /// One rejected field: its dotted path and why.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 pub struct FieldError {
     pub field: String,
     pub reason: String,

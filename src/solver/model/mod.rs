@@ -15,4 +15,5 @@ pub mod ladder;
 pub mod limits;
 pub mod material;
 pub mod policy;
+pub mod schema;
 pub mod spec;

@@ -2,6 +2,7 @@
 //! (`docs/validation.md` §4, "Which shape function for which wall").
 
 use super::spec::{Model, ShapeKind, Tube};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The d/t from which a 3D case that names no shape function runs with linear shapes.
@@ -11,7 +12,7 @@ use serde::{Deserialize, Serialize};
 pub const LINEAR_FROM_D_OVER_T: f64 = 8.0;
 
 /// The shape functions a case runs with, and whether the case named them.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 pub struct ShapeChoice {
     pub kind: ShapeKind,
     /// Why the default is this one, when the case named no shape functions.

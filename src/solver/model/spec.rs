@@ -12,15 +12,25 @@ use super::limits::CaseError;
 pub use super::material::section::{
     CurveExtrapolation, HardeningKind, Material, MaterialModel, Preset, RateKind,
 };
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 /// Whole case as written by a user. Every section and field may be omitted.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
+#[schemars(
+    rename = "Case",
+    description = "A crush case. Every section and field may be omitted (PVC defaults); unknown fields are rejected. The bounds here are those the server enforces on each field alone (`GET /v1/case/fields` serves the same table, derived from this schema). Checks that tie fields together (a wall thinner than half the diameter, a crush shorter than the tube, a plate slower than half the wave speed, and the server's particle, step and particle-step limits) are answered with 422 naming the fields."
+)]
 pub struct CaseSpec {
     /// Free text carried along with the case (not used by the physics).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(
+        title = "Label",
+        description = "Free text, at most 200 characters, kept with the job; the job list filters on it.",
+        length(max = 200)
+    )]
     pub label: Option<String>,
     #[serde(deserialize_with = "object")]
     pub tube: Tube,
@@ -38,14 +48,17 @@ pub struct CaseSpec {
     pub output: Output,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Tube {
     /// Wall thickness t.
+    #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub thickness_mm: f64,
     /// Mean diameter d, measured at the wall's mid-surface.
+    #[schemars(title = "Mean diameter d", description = "Measured at the wall's mid-surface.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub mean_diameter_mm: f64,
     /// Length l along the tube axis.
+    #[schemars(title = "Length l", description = "Along the tube axis.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub length_mm: f64,
 }
 
@@ -60,8 +73,9 @@ impl Default for Tube {
 }
 
 /// How the plates meet the tube.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = super::schema::choices)]
 pub enum LoadingMode {
     /// Plates normal to the tube axis.
     #[default]
@@ -70,19 +84,26 @@ pub enum LoadingMode {
     Lateral,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Loading {
+    #[schemars(
+        title = "Loading",
+        description = "axial: plates normal to the axis. lateral: the tube lies between the plates."
+    )]
     pub mode: LoadingMode,
     /// Constant speed of the moving (top) plate; the bottom plate is fixed.
+    #[schemars(title = "Plate speed", description = "Below half the material's wave speed.", extend("x-unit" = "m/s", "exclusiveMinimum" = 0))]
     pub plate_speed_m_s: f64,
     /// How far the top plate travels. Omitted: 50 mm axial, 12.5 mm lateral.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Crush distance", description = "Empty: 50 mm axial, 12.5 mm lateral. Less than 95 % of the length (axial) or of the bore (lateral), and at least the plate's travel while a stress wave crosses one grid cell, plate_speed_m_s × cell / sqrt(E / density) with cell = cell_to_particle_ratio × thickness_mm / particles_through_thickness (a shorter crush is over before the grid can carry the wave).", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub crush_distance_mm: Option<f64>,
     /// Travel over which the top plate comes up to speed (its velocity rising linearly in
     /// time), mm; 0 starts it at full speed, an impact. Part of the crush distance, at most
     /// all of it. Omitted: [`DEFAULT_RAMP_MM`], or half the crush distance if that is less.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Start ramp", description = "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Empty: 0.5 mm, or half the crush distance if less. At most the crush distance.", range(min = 0), extend("x-unit" = "mm"))]
     pub ramp_mm: Option<f64>,
 }
 
@@ -112,10 +133,15 @@ impl Default for Loading {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Contact {
     /// Coulomb friction coefficient μ between tube and plates.
+    #[schemars(
+        title = "Plate friction μ",
+        description = "Coulomb friction between tube and plates.",
+        range(min = 0, max = 2)
+    )]
     pub friction: f64,
 }
 
@@ -126,8 +152,9 @@ impl Default for Contact {
 }
 
 /// Shape functions of the background grid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = super::schema::choices)]
 pub enum ShapeKind {
     /// Trilinear hat functions (standard MPM).
     Linear,
@@ -148,7 +175,8 @@ impl ShapeKind {
 /// Which kinematics the solver models. The reduced models run the tube's section (the same
 /// particles, grid, shape functions, contact and material as 3D, on two axes) and report
 /// whole-tube loads and energies; they show only what their symmetry allows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
+#[schemars(transform = super::schema::choices)]
 pub enum Model {
     /// The whole tube in 3D.
     #[default]
@@ -182,24 +210,47 @@ impl Model {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Discretization {
     /// n: particles through the wall; the particle spacing is h = t / n in every direction.
     #[serde(deserialize_with = "whole::<_, u32>")]
+    #[schemars(
+        title = "Particles through the wall n",
+        description = "Spacing h = t / n. At most 16 in 3D (cost about n⁴), 64 in the reduced models (cost about n³).",
+        range(min = 1, max = 64)
+    )]
     pub particles_through_thickness: u32,
     /// k: background cell size = k · h.
+    #[schemars(
+        title = "Cell size / spacing k",
+        description = "Background cell size = k × h.",
+        range(min = 1, max = 4)
+    )]
     pub cell_to_particle_ratio: f64,
     /// α in Δt = α · cell / max(c + |v|).
+    #[schemars(title = "CFL number α", description = "Δt = α · cell / max(c + |v|).", extend("exclusiveMinimum" = 0, "maximum" = 1))]
     pub cfl: f64,
     /// Omitted: chosen by the wall and the model ([`ShapeKind::default_for`]);
     /// [`super::case::Case::shape`] is the one that runs.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(
+        title = "Shape functions",
+        description = "gimp: uniform GIMP; linear: trilinear hats. Empty (auto): linear for a thin wall (d/t >= 8) in 3D, else gimp; the estimate and the summary say which ran and why."
+    )]
     pub shape: Option<ShapeKind>,
     /// Share one volumetric strain rate and one pressure among the particles of each grid cell
     /// (as in a Q1–P0 element), against volumetric locking of the incompressible plastic flow.
+    #[schemars(
+        title = "Volumetric averaging",
+        description = "One volumetric strain rate and one pressure per grid cell, against volumetric locking."
+    )]
     pub volumetric_averaging: bool,
     /// 3D, or a reduced model for a scene with a symmetry (see [`Model`]).
+    #[schemars(
+        title = "Model",
+        description = "3d: the whole tube. axisymmetric (axial, no trigger): the (r, z) section, ring folding only, seconds instead of minutes. plane_strain (lateral, no trigger): the cross-section, no end effects. Loads and energies are always the whole tube's."
+    )]
     pub model: Model,
 }
 
@@ -216,15 +267,25 @@ impl Default for Discretization {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Trigger {
     /// Fraction of tube particles made weak (0.003 in the source); 0 disables the trigger.
+    #[schemars(
+        title = "Weak-particle fraction",
+        description = "Fraction of the wall's particles made weak, at random (0.003 in the source); 0 disables the trigger.",
+        range(min = 0, max = 0.1)
+    )]
     pub weak_fraction: f64,
     /// Yield stress of a weak particle divided by σy.
+    #[schemars(title = "Weak-particle strength ratio", description = "Yield stress of a weak particle over σy.", extend("exclusiveMinimum" = 0, "maximum" = 1))]
     pub strength_ratio: f64,
     /// Seed of the random choice of weak particles.
     #[serde(deserialize_with = "whole::<_, u64>")]
+    #[schemars(
+        title = "Trigger seed",
+        description = "Seed of the random choice of weak particles."
+    )]
     pub seed: u64,
 }
 
@@ -238,19 +299,32 @@ impl Default for Trigger {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Output {
     /// Number of history rows, at equal plate-displacement intervals.
     #[serde(deserialize_with = "whole::<_, u32>")]
+    #[schemars(
+        title = "History points",
+        description = "Rows of the load history, at equal plate travel.",
+        range(min = 10, max = 100000)
+    )]
     pub history_points: u32,
     /// Keep the final particle state (positions and plastic strain, 16 bytes a particle) for
     /// the deformed-tube picture and the VTU download. A sweep that needs only the numbers can
     /// leave it out.
+    #[schemars(
+        title = "Keep the final state",
+        description = "Needed for the deformed-tube picture and the VTU file; 16 bytes a particle."
+    )]
     pub final_state: bool,
     /// After the run, price the mean load's error bar by running the tube's section at three
     /// resolutions (`analysis::error_bar`). Off by default: below n = 8 the ladder costs more
     /// than a 3D run of its own (2.5 times at n = 4, half at n = 6, a seventh at n = 8).
+    #[schemars(
+        title = "Error bar",
+        description = "After the run, price the mean load's discretization error with the tube's section at three resolutions (n or 8, 1.5x, 2x). Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."
+    )]
     pub error_bar: bool,
 }
 
@@ -286,9 +360,24 @@ where
         .ok_or_else(|| D::Error::custom(format!("expected a whole number in range, not {n}")))
 }
 
-/// Every field a case can set, as dotted paths (`tube.thickness_mm`, `label`).
+/// Every field a case can set, as dotted paths (`tube.thickness_mm`, `label`), in name order.
 pub fn field_paths() -> Vec<String> {
-    // Every optional field filled in, so that the serialized case names it.
+    let Ok(Value::Object(sections)) = serde_json::to_value(full_case()) else {
+        unreachable!("a case serializes to an object")
+    };
+    let mut paths = Vec::new();
+    for (name, value) in sections {
+        match value {
+            Value::Object(fields) => paths.extend(fields.keys().map(|f| format!("{name}.{f}"))),
+            _ => paths.push(name),
+        }
+    }
+    paths
+}
+
+/// A case with every optional field filled in, so that its serialization names every field
+/// (in the order the types declare them).
+pub fn full_case() -> CaseSpec {
     let mut full = CaseSpec {
         label: Some(String::new()),
         ..CaseSpec::default()
@@ -310,17 +399,7 @@ pub fn field_paths() -> Vec<String> {
         johnson_cook_reference_rate_per_s: Some(0.0),
         ..Material::default()
     };
-    let Ok(Value::Object(sections)) = serde_json::to_value(&full) else {
-        unreachable!("a case serializes to an object")
-    };
-    let mut paths = Vec::new();
-    for (name, value) in sections {
-        match value {
-            Value::Object(fields) => paths.extend(fields.keys().map(|f| format!("{name}.{f}"))),
-            _ => paths.push(name),
-        }
-    }
-    paths
+    full
 }
 
 /// JSON text → spec, naming the field of a type error, an unknown field or a key given twice.

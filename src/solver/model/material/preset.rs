@@ -3,11 +3,13 @@
 //! table with the sources in full); none is fitted here.
 
 use super::section::{HardeningKind, Material, MaterialModel, RateKind};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The materials a case can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum Preset {
     /// The paper's rigid PVC: elastic–perfectly plastic, rate-independent.
     Pvc,

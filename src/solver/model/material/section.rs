@@ -13,11 +13,13 @@ pub use super::flow::Extrapolation;
 pub use super::preset::Preset;
 
 use super::flow::{Hardening, Rate, Table};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Constitutive model of the wall.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum MaterialModel {
     /// von Mises (J2) plasticity, radial return: elastic–perfectly plastic unless the section
     /// names a hardening or a rate law.
@@ -28,8 +30,9 @@ pub enum MaterialModel {
 }
 
 /// The static hardening law: how the flow stress grows with the equivalent plastic strain ε_p.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum HardeningKind {
     /// None: the flow stress is the yield stress (perfect plasticity).
     #[default]
@@ -44,8 +47,9 @@ pub enum HardeningKind {
 
 /// The strain-rate law: the factor on the static flow stress at the equivalent plastic strain
 /// rate ε̇_p.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum RateKind {
     /// None: rate-independent.
     #[default]
@@ -69,8 +73,9 @@ impl RateKind {
 }
 
 /// How a tabulated curve goes on past its last point, as a case names it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
+#[schemars(transform = crate::solver::model::schema::choices)]
 pub enum CurveExtrapolation {
     /// The last stress (the default: a tensile test's curve ends at necking, well below the
     /// strains of a fold, and a continued slope would guess beyond it).
@@ -81,8 +86,11 @@ pub enum CurveExtrapolation {
 }
 
 /// The material section, resolved: the preset's values where the case gave none.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(from = "MaterialInput")]
+#[schemars(
+    description = "The wall's material. A `preset` fills every field the section leaves out (without one, the paper's PVC: the defaults below). A section that names its own `hardening` (or `rate`, or model `elastic`) takes none of the preset's constants for that law; one that only changes a constant keeps the preset's law. A law's constants are required with it and refused without it (422 naming the field). Presets, their sources and the laws are described in docs/materials.md."
+)]
 pub struct Material {
     /// The preset the section started from; `None`: the paper's PVC.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -134,24 +142,60 @@ impl Default for Material {
 }
 
 /// The material section as written: every field optional.
-#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
+#[schemars(rename = "MaterialInput")]
 pub struct MaterialInput {
+    #[schemars(
+        title = "Material preset",
+        description = "Fills every material field left out; empty: the paper's PVC. pvc: the paper's PVC. aa6060_t5: EN AW-6060 T5 extrusions (EN 755-2 minimum proof stress 120 MPa), perfectly plastic. aa6061_t6: Johnson & Cook's 6061-T6 (Ludwik hardening 324 + 114 εp^0.42 MPa, rate term C = 0.002). mild_steel: 250 MPa, perfectly plastic, Cowper–Symonds D = 40.4/s, q = 5. Sources: docs/materials.md."
+    )]
     pub preset: Option<Preset>,
+    #[schemars(
+        title = "Material model",
+        description = "j2: von Mises plasticity, perfectly plastic unless a hardening or rate law is set; elastic never yields."
+    )]
     pub model: Option<MaterialModel>,
+    #[schemars(title = "Young's modulus E", extend("x-unit" = "MPa", "exclusiveMinimum" = 0))]
     pub youngs_modulus_mpa: Option<f64>,
+    #[schemars(title = "Poisson's ratio ν", range(min = -0.99, max = 0.4999))]
     pub poisson_ratio: Option<f64>,
+    #[schemars(title = "Yield stress σy", description = "The flow stress at zero plastic strain and a static rate. With a hardening curve it must equal the curve's first stress; left out, it is taken from the curve.", extend("x-unit" = "MPa", "exclusiveMinimum" = 0))]
     pub yield_stress_mpa: Option<f64>,
+    #[schemars(title = "Density ρ", extend("x-unit" = "kg/m³", "exclusiveMinimum" = 0))]
     pub density_kg_m3: Option<f64>,
+    #[schemars(
+        title = "Hardening",
+        description = "The static hardening law; empty: the preset's (none for PVC). table: the hardening curve; swift: σ = K (ε₀ + εp)ⁿ with ε₀ = (σy / K)^(1/n); ludwik: σ = σy + K εpⁿ."
+    )]
     pub hardening: Option<HardeningKind>,
+    #[schemars(
+        title = "Hardening curve",
+        description = "True stress against equivalent plastic strain: [εp, σ MPa] pairs (\"εp σ\" pairs separated by commas in the form), the first at εp = 0 with the yield stress, strains increasing, stresses not decreasing (softening is not modelled), at most 100; piecewise linear.",
+        length(min = 1, max = 100)
+    )]
     pub hardening_curve: Option<Vec<[f64; 2]>>,
+    #[schemars(
+        title = "Past the curve's end",
+        description = "Past the hardening curve's last point; empty: flat (the last stress)."
+    )]
     pub hardening_extrapolation: Option<CurveExtrapolation>,
+    #[schemars(title = "Hardening K", description = "K of Swift or Ludwik.", extend("x-unit" = "MPa", "exclusiveMinimum" = 0))]
     pub hardening_k_mpa: Option<f64>,
+    #[schemars(title = "Hardening exponent n", description = "n of Swift or Ludwik.", extend("exclusiveMinimum" = 0, "maximum" = 1))]
     pub hardening_n: Option<f64>,
+    #[schemars(
+        title = "Strain-rate law",
+        description = "The strain-rate law on the equivalent plastic strain rate; empty: the preset's (none for PVC). cowper_symonds: σ × (1 + (ε̇p/D)^(1/q)); johnson_cook: σ × (1 + C ln(ε̇p/ε̇₀)) above ε̇₀, σ below (no thermal term)."
+    )]
     pub rate: Option<RateKind>,
+    #[schemars(title = "Cowper–Symonds D", extend("x-unit" = "1/s", "exclusiveMinimum" = 0))]
     pub cowper_symonds_d_per_s: Option<f64>,
+    #[schemars(title = "Cowper–Symonds q", range(min = 1, max = 100))]
     pub cowper_symonds_q: Option<f64>,
+    #[schemars(title = "Johnson–Cook C", range(min = 0, max = 1))]
     pub johnson_cook_c: Option<f64>,
+    #[schemars(title = "Johnson–Cook ε̇₀", description = "The reference (quasi-static) rate.", extend("x-unit" = "1/s", "exclusiveMinimum" = 0))]
     pub johnson_cook_reference_rate_per_s: Option<f64>,
 }
 
