@@ -9,6 +9,7 @@ function summaryTable(s) {
   const rows = [
     ["Mean collapse load", kN(s.mean_load_n)],
     ...(s.error_bar ? [["Error bar (mean load)", errorBarText(s.error_bar)]] : []),
+    ...(s.error_bar && s.error_bar.first_peak ? [["Error bar (first peak)", peakBarText(s.error_bar.first_peak)]] : []),
     ["Peak load (largest, whole crush)", kN(s.peak_load_n)],
     ["First collapse peak", s.first_peak_load_n == null ? "– (the load never drops)" : `${kN(s.first_peak_load_n)} at ${fmt(s.first_peak_displacement_mm)} mm`],
     ["Mean load after it", s.mean_load_after_first_peak_n == null ? "–" : kN(s.mean_load_after_first_peak_n)],
@@ -38,6 +39,13 @@ function errorBarText(b) {
   return el("span", { id: "error-bar", title: b.covers },
     `converged ${kN(b.low_n)} – ${kN(b.high_n)}; this run ${p(b.error)} (${p(b.error_low)} to ${p(b.error_high)}), ` +
     `from its ${b.model.replace("_", " ")} section at n = ${b.rungs.map((r) => r.n).join(", ")} (${seconds(b.cost_s)})`);
+}
+
+// The first collapse peak's error bar, from the same ladder.
+function peakBarText(p) {
+  const sign = (x) => `${x >= 0 ? "+" : ""}${(100 * x).toFixed(1)} %`;
+  return el("span", { id: "peak-error-bar" },
+    `converged ${kN(p.low_n)} – ${kN(p.high_n)}; this run ${sign(p.error)}`);
 }
 
 // Where the plates' work went (summary.energy, absent in summaries stored before it existed).

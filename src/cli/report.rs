@@ -70,6 +70,16 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
                 l.error_high
                     .map_or_else(|| "?".to_string(), |e| format!("{:+.1}", 100.0 * e))
             );
+            if let Some(p) = &l.first_peak {
+                let _ = writeln!(
+                    o,
+                    "                   converged first collapse peak in [{}, {}], best {}: this run {:+.1} %",
+                    kn(p.low_n),
+                    kn(p.high_n),
+                    kn(p.estimate_n),
+                    100.0 * p.error
+                );
+            }
             let _ = writeln!(
                 o,
                 "                   {}; cost {:.1} s ({:.0} % of the run)",

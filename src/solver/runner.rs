@@ -107,18 +107,18 @@ impl Runner {
                 let mut done = Vec::with_capacity(rungs.len());
                 let mut model = None;
                 for (n, twin) in rungs {
-                    let (mean, wall) = match twin {
+                    let summary = match twin {
                         Some(twin) => {
                             model = Some(twin.spec().discretization.model);
-                            let r = self.run(&twin, &mut (), cancel)?;
-                            (r.summary.mean_load_n, r.summary.cost.wall_time_s)
+                            &self.run(&twin, &mut (), cancel)?.summary
                         }
-                        None => (out.summary.mean_load_n, out.summary.cost.wall_time_s),
+                        None => &out.summary,
                     };
                     done.push(error_bar::Rung {
                         n,
-                        mean_load_n: mean,
-                        wall_time_s: wall,
+                        mean_load_n: summary.mean_load_n,
+                        first_peak_load_n: summary.measures.first_peak_load_n,
+                        wall_time_s: summary.cost.wall_time_s,
                     });
                 }
                 let three_d = case.spec().discretization.model == Model::ThreeD;

@@ -10,13 +10,16 @@
 //! uncertainty), and for a 3D run the interval is widened by the gap between the run and its
 //! section at the same n.
 //!
-//! It covers the resolution error of the mean load of a ring (axial) or flattening (lateral)
-//! collapse with uGIMP shape functions. It does not cover: lobes (a diamond or a global
-//! buckle cannot be run as a section), linear shape functions (no converged answer on thin
-//! walls yet), the model's own error against a real tube (material, friction, rate), or the
-//! first collapse peak.
+//! The first collapse peak ([`super::measures`]) gets an interval of its own from the same
+//! rungs, read the same way ([`PeakInterval`]), when the run and every rung have one.
+//!
+//! It covers the resolution error of the mean load and of the first collapse peak of a ring
+//! (axial) or flattening (lateral) collapse with uGIMP shape functions. It does not cover:
+//! lobes (a diamond or a global buckle cannot be run as a section), linear shape functions (no
+//! converged answer on thin walls yet), or the model's own error against a real tube
+//! (material, friction, rate).
 
-use super::richardson::richardson;
+use super::richardson::{richardson, Extrapolation};
 use super::summary::Summary;
 use crate::solver::model::case::{Case, Limits, LoadingMode, Model};
 use crate::solver::model::ladder::rungs;
@@ -65,6 +68,27 @@ pub struct Ladder {
     pub cost_fraction: f64,
     /// What the interval covers and what it does not.
     pub covers: String,
+    /// The first collapse peak's interval from the same rungs; null when the run or a rung
+    /// has no first peak (its load never dropped).
+    #[serde(default)]
+    pub first_peak: Option<PeakInterval>,
+}
+
+/// The first collapse peak's interval, N, read off the ladder as the mean load's is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct PeakInterval {
+    /// The best estimate of the converged first collapse peak, N.
+    pub estimate_n: f64,
+    /// The converged first peak lies in [low_n, high_n] (N).
+    pub low_n: f64,
+    pub high_n: f64,
+    /// The run's first peak against the estimate: run / estimate − 1.
+    pub error: f64,
+    /// Richardson's observed order, when the rungs' peaks converge monotonically.
+    pub order: Option<f64>,
+    pub extrapolated: bool,
+    /// |run − twin at the same n| / estimate (0 for a section's own ladder).
+    pub twin_gap: f64,
 }
 
 /// One rung of the ladder.
@@ -72,7 +96,77 @@ pub struct Ladder {
 pub struct Rung {
     pub n: u32,
     pub mean_load_n: f64,
+    /// The rung's first collapse peak, N; null where its load never dropped.
+    #[serde(default)]
+    pub first_peak_load_n: Option<f64>,
     pub wall_time_s: f64,
+}
+
+/// One quantity read off the ladder: its estimate and interval, N.
+struct Reading {
+    estimate: f64,
+    low: f64,
+    high: f64,
+    extrapolation: Option<Extrapolation>,
+    trusted: bool,
+    twin_gap: f64,
+}
+
+/// Reads one quantity's converged value off `values` (n, value; coarsest first; the three
+/// finest are the ladder proper) for a run whose value is `run_value`: Richardson's
+/// extrapolation when trusted, with the whole way from the finest rung to it as its
+/// uncertainty; else the finest rung with the ladder's whole spread. The half-width adds the
+/// gap between a 3D run and its twin at the same n, and [`MODEL_GAP_FLOOR`].
+fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, three_d: bool) -> Reading {
+    let finest = values[values.len() - 1].1;
+    let ladder = &values[values.len() - 3..];
+    let points: Vec<(f64, f64)> = ladder.iter().map(|&(n, v)| (1.0 / n as f64, v)).collect();
+    let extrapolation = richardson(&points);
+    let trusted = extrapolation.filter(|e| e.trustworthy);
+    let (estimate, spread) = match trusted {
+        // The extrapolation's own uncertainty is taken as the whole way from the finest rung
+        // to it: generous, since a trusted order makes the remaining error far smaller.
+        Some(e) => (e.value, (finest - e.value).abs()),
+        None => (
+            finest,
+            ladder
+                .iter()
+                .map(|&(_, v)| (v - finest).abs())
+                .fold(0.0, f64::max),
+        ),
+    };
+    let twin_gap = match values.iter().find(|&&(n, _)| n == run_n) {
+        Some(&(_, twin)) if three_d => (run_value - twin).abs(),
+        _ => 0.0,
+    };
+    let half = spread + twin_gap + MODEL_GAP_FLOOR * estimate.abs();
+    Reading {
+        estimate,
+        low: estimate - half,
+        high: estimate + half,
+        extrapolation,
+        trusted: trusted.is_some(),
+        twin_gap,
+    }
+}
+
+/// The first collapse peak's interval, when the run and every rung have a first peak.
+fn first_peak(rungs: &[Rung], run: &Summary, run_n: u32, three_d: bool) -> Option<PeakInterval> {
+    let run_peak = run.measures.first_peak_load_n?;
+    let values: Option<Vec<(u32, f64)>> = rungs
+        .iter()
+        .map(|r| r.first_peak_load_n.map(|p| (r.n, p)))
+        .collect();
+    let r = read(&values?, run_peak, run_n, three_d);
+    Some(PeakInterval {
+        estimate_n: r.estimate,
+        low_n: r.low,
+        high_n: r.high,
+        error: run_peak / r.estimate - 1.0,
+        order: r.extrapolation.map(|e| e.order).filter(|o| o.is_finite()),
+        extrapolated: r.trusted,
+        twin_gap: r.twin_gap / r.estimate.abs().max(f64::MIN_POSITIVE),
+    })
 }
 
 /// The floor of the interval's half-width, as a share of the estimate: the 3D run and its
@@ -126,41 +220,23 @@ pub fn from_rungs(
             why: "fewer than three rungs ran".into(),
         };
     }
-    let finest = rungs[rungs.len() - 1].mean_load_n;
-    // The ladder proper: the three finest rungs (a 3D run's twin at its own n may precede).
-    let ladder = &rungs[rungs.len() - 3..];
-    let points: Vec<(f64, f64)> = ladder
-        .iter()
-        .map(|r| (1.0 / r.n as f64, r.mean_load_n))
-        .collect();
-    let extrapolation = richardson(&points);
-    let trusted = extrapolation.filter(|e| e.trustworthy);
-    let (estimate, spread) = match trusted {
-        // The extrapolation's own uncertainty is taken as the whole way from the finest rung
-        // to it: generous, since a trusted order makes the remaining error far smaller.
-        Some(e) => (e.value, (finest - e.value).abs()),
-        None => (
-            finest,
-            ladder
-                .iter()
-                .map(|r| (r.mean_load_n - finest).abs())
-                .fold(0.0, f64::max),
-        ),
-    };
-    let twin_gap = match rungs.iter().find(|r| r.n == run_n) {
-        Some(twin) if three_d => (f - twin.mean_load_n).abs(),
-        _ => 0.0,
-    };
-    let half = spread + twin_gap + MODEL_GAP_FLOOR * estimate.abs();
-    let (low, high) = (estimate - half, estimate + half);
+    let values: Vec<(u32, f64)> = rungs.iter().map(|r| (r.n, r.mean_load_n)).collect();
+    let Reading {
+        estimate,
+        low,
+        high,
+        extrapolation,
+        trusted,
+        twin_gap,
+    } = read(&values, f, run_n, three_d);
     let cost_s: f64 = rungs
         .iter()
         .filter(|r| three_d || r.n != run_n)
         .map(|r| r.wall_time_s)
         .sum();
     let covers = format!(
-        "the resolution error of the mean load, from the {} section at n = {}{}; not the \
-         model's error against a real tube, lobes or the first collapse peak",
+        "the resolution error of the mean load and the first collapse peak, from the {} \
+         section at n = {}{}; not the model's error against a real tube, or lobes",
         model.name().replace('_', " "),
         rungs
             .iter()
@@ -168,13 +244,13 @@ pub fn from_rungs(
             .collect::<Vec<_>>()
             .join(", "),
         match (trusted, extrapolation) {
-            (Some(e), _) => format!(" extrapolated at order {:.2}", e.order),
-            (None, Some(e)) => format!(
+            (true, Some(e)) => format!(" extrapolated at order {:.2}", e.order),
+            (_, Some(e)) => format!(
                 " (Richardson not trusted, order {:.2}: the finest rung, with the ladder's \
                  spread)",
                 e.order
             ),
-            (None, None) => " (not monotone: the finest rung, with the ladder's spread)".into(),
+            (_, None) => " (not monotone: the finest rung, with the ladder's spread)".into(),
         }
     );
     ErrorBar::ReducedLadder(Ladder {
@@ -186,11 +262,12 @@ pub fn from_rungs(
         error_low: f / high - 1.0,
         error_high: (low > 0.0).then(|| f / low - 1.0),
         order: extrapolation.map(|e| e.order).filter(|o| o.is_finite()),
-        extrapolated: trusted.is_some(),
+        extrapolated: trusted,
         twin_gap: twin_gap / estimate.abs().max(f64::MIN_POSITIVE),
         cost_fraction: cost_s / run.cost.wall_time_s.max(1e-9),
         cost_s,
         covers,
+        first_peak: first_peak(&rungs, run, run_n, three_d),
         rungs,
     })
 }

@@ -26,6 +26,7 @@ fn rungs(points: &[(u32, f64)]) -> Vec<Rung> {
         .map(|&(n, mean_load_n)| Rung {
             n,
             mean_load_n,
+            first_peak_load_n: None,
             wall_time_s: 1.0,
         })
         .collect()
