@@ -13,6 +13,7 @@ pub mod hub;
 mod metrics;
 mod retention;
 mod routes;
+mod series;
 pub mod store;
 pub mod sweep;
 mod views;
