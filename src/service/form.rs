@@ -143,12 +143,20 @@ const SPECS: &[Spec] = &[
     Spec { kind: Kind::Integer, ..num("trigger.seed", "Trigger seed", "", Some((0.0, false)), None, "Seed of the random choice of weak particles.") },
     Spec { kind: Kind::Integer, ..num("output.history_points", "History points", "", Some((10.0, false)), Some((100000.0, false)), "Rows of the load history, at equal plate travel.") },
     other("output.final_state", "Keep the final state", Kind::Boolean, &[], "Needed for the deformed-tube picture and the VTU file; 16 bytes a particle."),
+    Spec { kind: Kind::Integer, ..num("output.frames", "Time-series frames", "", Some((0.0, false)), Some((50.0, false)), "0: none. 2 to 50: particle states for ParaView (series.pvd, series.tar) at equal plate travel, start to end, with stress, velocity and volume; 56 bytes a particle a frame, frames × particles at most 10 million.") },
     other("output.error_bar", "Error bar", Kind::Boolean, &[], "After the run, price the mean load's discretization error with the tube's section at three resolutions (n or 8, 1.5x, 2x). Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."),
 ];
 
 /// Every field of the form, in display order.
 pub fn fields() -> Vec<Field> {
-    let defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    let mut defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    // A case's JSON leaves `output.frames` out at its default (no series): the form shows it.
+    if let Some(output) = defaults
+        .pointer_mut("/output")
+        .and_then(Value::as_object_mut)
+    {
+        output.insert("frames".into(), CaseSpec::default().output.frames.into());
+    }
     let presets: Vec<(&'static str, Value)> = Preset::ALL
         .iter()
         .map(|p| {
