@@ -74,25 +74,41 @@ pub fn decode(particles: usize, bytes: &[u8]) -> Option<FrameState> {
     if bytes.len() != particles.checked_mul(FRAME_BYTES_PER_PARTICLE)? {
         return None;
     }
-    let mut state = FrameState {
-        position_mm: Vec::with_capacity(particles),
-        plastic_strain: Vec::with_capacity(particles),
-        stress_mpa: Vec::with_capacity(particles),
-        velocity_m_s: Vec::with_capacity(particles),
-        volume_mm3: Vec::with_capacity(particles),
-    };
-    for chunk in bytes.chunks_exact(FRAME_BYTES_PER_PARTICLE) {
-        let f = |k: usize| {
-            let b = &chunk[4 * k..4 * k + 4];
-            f32::from_le_bytes([b[0], b[1], b[2], b[3]])
-        };
-        state.position_mm.push([f(0), f(1), f(2)]);
-        state.plastic_strain.push(f(3));
-        state.stress_mpa.push(std::array::from_fn(|j| f(4 + j)));
-        state.velocity_m_s.push([f(10), f(11), f(12)]);
-        state.volume_mm3.push(f(13));
-    }
+    let mut state = FrameState::default();
+    state.reserve(particles);
+    state.extend_from(bytes);
     Some(state)
+}
+
+impl FrameState {
+    /// Room for `particles` more particles.
+    pub fn reserve(&mut self, particles: usize) {
+        self.position_mm.reserve_exact(particles);
+        self.plastic_strain.reserve_exact(particles);
+        self.stress_mpa.reserve_exact(particles);
+        self.velocity_m_s.reserve_exact(particles);
+        self.volume_mm3.reserve_exact(particles);
+    }
+
+    /// Appends the particles of a piece of the stored form; false (and nothing appended) when
+    /// it does not hold whole particles.
+    pub fn extend_from(&mut self, bytes: &[u8]) -> bool {
+        if !bytes.len().is_multiple_of(FRAME_BYTES_PER_PARTICLE) {
+            return false;
+        }
+        for chunk in bytes.chunks_exact(FRAME_BYTES_PER_PARTICLE) {
+            let f = |k: usize| {
+                let b = &chunk[4 * k..4 * k + 4];
+                f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+            };
+            self.position_mm.push([f(0), f(1), f(2)]);
+            self.plastic_strain.push(f(3));
+            self.stress_mpa.push(std::array::from_fn(|j| f(4 + j)));
+            self.velocity_m_s.push([f(10), f(11), f(12)]);
+            self.volume_mm3.push(f(13));
+        }
+        true
+    }
 }
 
 /// The von Mises stress of a Cauchy stress in Voigt order, MPa.

@@ -1,9 +1,10 @@
 //! A succeeded job's time series (`output.frames`) for ParaView: the `.pvd` collection, each
 //! frame as a `.vtu` under the relative name the `.pvd` gives it (`frames/{k}.vtu`), and the
 //! lot as one tar archive, what a user downloads and opens. 404 for a job that kept no series,
-//! 409 for one that has not succeeded. Frames are read from the store one at a time and
-//! written as the client reads (see `results::streamed`), so a download holds one frame's
-//! state (about 80 bytes a particle) whatever the series' length.
+//! 409 for one that has not succeeded. Frames are read from the store one at a time, each a
+//! part at a time, and written as the client reads (see `results::streamed`), so a download
+//! holds one frame's state (80 bytes a particle with the start positions) and one stored part
+//! (3.5 MB), whatever the series' length.
 
 use super::results::{heavy_permit, streamed, succeeded, CACHE};
 use super::{file_response, AppState};
@@ -159,21 +160,31 @@ pub async fn series_tar(
     ))
 }
 
-/// Frame `k` of job `job`, decoded, with where it stands; `None` when it is not stored.
+/// Frame `k` of job `job`, decoded part by part, with where it stands; `None` when it is not
+/// stored.
 async fn read_frame(
     store: &Store,
     job: Uuid,
     k: u32,
 ) -> Result<Option<(FrameTime, FrameState)>, ApiError> {
-    let Some(stored) = store.frame(job, k).await? else {
+    let (mut state, mut whole) = (FrameState::default(), true);
+    let found = store
+        .frame(job, k, |particles, part| {
+            if state.is_empty() {
+                state.reserve(particles);
+            }
+            whole &= state.extend_from(part);
+        })
+        .await?;
+    let Some((at, particles)) = found else {
         return Ok(None);
     };
-    let state = series::decode(stored.particles, &stored.data).ok_or_else(|| {
-        ApiError::internal(io::Error::other(format!(
-            "stored frame {k} of job {job} has a wrong length"
-        )))
-    })?;
-    Ok(Some((stored.at, state)))
+    if !whole || state.len() != particles {
+        return Err(ApiError::internal(io::Error::other(format!(
+            "stored frame {k} of job {job} does not hold its {particles} particles"
+        ))));
+    }
+    Ok(Some((at, state)))
 }
 
 /// A tar directory entry.

@@ -16,7 +16,7 @@ mod sweeps;
 mod worker;
 
 pub use checkpoints::StoredCheckpoint;
-pub use frames::StoredFrame;
+pub use frames::{StoredFrame, PART_PARTICLES};
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use removal::{Deleted, Pruned};
 pub use signals::Signal;
