@@ -254,6 +254,7 @@ async function showResult(job, set, side, below) {
       lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
     el("h2", {}, "Case"), caseTable(job.case || {}, s));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
+  const keepsSeries = Boolean(job.case && job.case.output && job.case.output.frames > 0);
   const energyBox = el("div", { class: "chart", id: "energy-curve" });
   below.replaceChildren(
     el("h2", {}, "Deformed tube, coloured by plastic strain"),
@@ -272,6 +273,7 @@ async function showResult(job, set, side, below) {
       el("a", { href: job.links.history + "?format=csv", download: `${job.id}-history.csv` }, "history (CSV)"),
       el("a", { href: job.links.summary, download: `${job.id}-summary.json` }, "summary (JSON)"),
       keepsState ? el("a", { href: job.links.state, download: `${job.id}.vtu` }, "final particle state (VTU, ParaView)") : null,
+      keepsSeries ? el("a", { href: job.links.self + "/series.tar", download: `${job.id}-series.tar` }, "time series (series.pvd and frames, tar, ParaView)") : null,
       el("a", { href: job.links.plot, download: `${job.id}-load.svg` }, "load curve (SVG)")),
     el("details", {}, el("summary", {}, "Case as submitted"), el("pre", {}, JSON.stringify(job.case, null, 2))));
   // The plates' work and what the wall dissipated of it (plastic work + friction), J.

@@ -10,6 +10,7 @@ mod output;
 mod progress;
 mod report;
 mod run;
+mod series;
 mod study;
 
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};

@@ -3,6 +3,7 @@
 //! `energy.svg` (the plates' work and the energy dissipated against the travel; the CLI only),
 //! `summary.json` (the summary plus the mode's diagnostics), and, when the case keeps the final
 //! state (`output.final_state`), `particles.csv`, `state.vtu` (for ParaView) and `shape.png`.
+//! A time series (`output.frames`) is written as the run goes (`cli/series.rs`).
 
 use crate::export::{self, FinalState};
 use crate::solver::analysis::mode::ModeDetail;

@@ -1,6 +1,6 @@
 //! `crush run CASE.json`: parse the case, run it on its own rayon pool with a progress bar,
 //! stop cleanly on Ctrl-C, print the summary and write the files the server gives for a job
-//! (`cli/output.rs`).
+//! (`cli/output.rs`, and the time series in `cli/series.rs`).
 //!
 //! What it prints and writes is the solver's own summary and mode detail: one source.
 
@@ -10,6 +10,7 @@ use super::output::{
 };
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
+use super::series::{RunObserver, SeriesFiles};
 use super::RunArgs;
 use crate::solver::{cores, estimate, Case, Limits, Runner, SolveError};
 use anyhow::{bail, Context};
@@ -80,9 +81,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     install_ctrl_c(cancel.clone());
     let runner = Runner::new(threads, |i| format!("crush-{i}"))
         .context("starting the solver's thread pool")?;
-    let mut observer = BarObserver::new();
+    let mut observer = RunObserver {
+        bar: BarObserver::new(),
+        series: SeriesFiles::new(&out_dir, &case)?,
+    };
     let result = runner.run(&case, &mut observer, &cancel);
-    observer.bar().finish_and_clear();
+    observer.bar.bar().finish_and_clear();
+    // The frames reached, whether the run ended or stopped.
+    let series = observer.series.take().map(SeriesFiles::finish).transpose();
 
     let history_path = out_dir.join("history.csv");
     let result = result.and_then(|mut output| {
@@ -96,12 +102,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         Ok(output) => output,
         Err(e) => {
             // Keep what was computed: the rows reported before the run stopped.
-            write_history_csv(&history_path, &observer.rows)?;
+            write_history_csv(&history_path, &observer.bar.rows)?;
             eprintln!(
                 "partial history ({} rows) in {}",
-                observer.rows.len(),
+                observer.bar.rows.len(),
                 history_path.display()
             );
+            match series {
+                Ok(Some((path, frames))) => {
+                    eprintln!("partial series ({frames} frames) in {}", path.display())
+                }
+                Ok(None) => {}
+                Err(why) => eprintln!("no series: {why:#}"),
+            }
             return Err(match e {
                 SolveError::Cancelled { step } => anyhow::anyhow!("cancelled at step {step}"),
                 other => anyhow::Error::new(other).context(format!("{source} failed")),
@@ -135,6 +148,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         let shape_path = out_dir.join("shape.png");
         write_shape_png(&shape_path, &case, &output.snapshot)?;
         written.extend([particles_path, state_path, shape_path]);
+    }
+    if let Some((path, _)) = series? {
+        written.extend([path, out_dir.join("frames")]);
     }
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     eprintln!("wrote {}", names.join(", "));

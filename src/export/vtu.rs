@@ -95,6 +95,20 @@ pub fn write_vtu(
         )));
     }
     let n = state.len();
+    begin(out, n, note)?;
+    array(out, "Float32", Some("plastic_strain"), 1, n * 4, |w| {
+        for e in &state.plastic_strain {
+            w.write_all(&e.to_le_bytes())?;
+        }
+        Ok(())
+    })?;
+    displacement(out, initial_mm, &state.position_mm)?;
+    end(out, &state.position_mm)
+}
+
+/// The document up to its point data: the header, `note` as a comment, one piece of `n`
+/// points.
+pub(super) fn begin(out: &mut impl Write, n: usize, note: Option<&str>) -> io::Result<()> {
     write!(
         out,
         "<?xml version=\"1.0\"?>\n\
@@ -108,24 +122,39 @@ pub fn write_vtu(
     write!(
         out,
         "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n<PointData>\n"
-    )?;
-    array(out, "Float32", Some("plastic_strain"), 1, n * 4, |w| {
-        for e in &state.plastic_strain {
-            w.write_all(&e.to_le_bytes())?;
-        }
-        Ok(())
-    })?;
-    array(out, "Float32", Some("displacement_mm"), 3, n * 12, |w| {
-        for (x, x0) in state.position_mm.iter().zip(initial_mm) {
-            for k in 0..3 {
-                w.write_all(&(x[k] - x0[k] as f32).to_le_bytes())?;
+    )
+}
+
+/// The displacement from the start, mm, as point data.
+pub(super) fn displacement(
+    out: &mut impl Write,
+    initial_mm: &[[f64; 3]],
+    position_mm: &[[f32; 3]],
+) -> io::Result<()> {
+    array(
+        out,
+        "Float32",
+        Some("displacement_mm"),
+        3,
+        position_mm.len() * 12,
+        |w| {
+            for (x, x0) in position_mm.iter().zip(initial_mm) {
+                for k in 0..3 {
+                    w.write_all(&(x[k] - x0[k] as f32).to_le_bytes())?;
+                }
             }
-        }
-        Ok(())
-    })?;
+            Ok(())
+        },
+    )
+}
+
+/// The rest of the document after the point data: the points at `position_mm` and one vertex
+/// cell each.
+pub(super) fn end(out: &mut impl Write, position_mm: &[[f32; 3]]) -> io::Result<()> {
+    let n = position_mm.len();
     out.write_all(b"</PointData>\n<CellData>\n</CellData>\n<Points>\n")?;
     array(out, "Float32", None, 3, n * 12, |w| {
-        for x in &state.position_mm {
+        for x in position_mm {
             for v in x {
                 w.write_all(&v.to_le_bytes())?;
             }
@@ -147,7 +176,7 @@ pub fn write_vtu(
 
 /// One inline binary `DataArray`: base64 of the byte count (u64) then `bytes` bytes of values,
 /// as `values` writes them.
-fn array<W: Write>(
+pub(super) fn array<W: Write>(
     out: &mut W,
     kind: &str,
     name: Option<&str>,
@@ -155,10 +184,29 @@ fn array<W: Write>(
     bytes: usize,
     values: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
+    named_array(out, kind, name, components, &[], bytes, values)
+}
+
+/// [`array`] with a name for each component (`ComponentName0`…), as ParaView shows them.
+pub(super) fn named_array<W: Write>(
+    out: &mut W,
+    kind: &str,
+    name: Option<&str>,
+    components: u32,
+    component_names: &[&str],
+    bytes: usize,
+    values: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
     let name = name.map_or(String::new(), |n| format!(" Name=\"{n}\""));
+    let labels: String = component_names
+        .iter()
+        .enumerate()
+        .map(|(i, c)| format!(" ComponentName{i}=\"{c}\""))
+        .collect();
     write!(
         out,
-        "<DataArray type=\"{kind}\"{name} NumberOfComponents=\"{components}\" format=\"binary\">"
+        "<DataArray type=\"{kind}\"{name} NumberOfComponents=\"{components}\"{labels} \
+         format=\"binary\">"
     )?;
     {
         // Small writes, buffered before the encoder so that it encodes in long runs.

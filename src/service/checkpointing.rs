@@ -5,8 +5,9 @@
 //! interruption.
 
 use super::hub::JobObserver;
+use super::series::FrameSink;
 use super::store::{Claimed, Store, StoredCheckpoint};
-use crate::solver::{Checkpoint, HistoryRow, Observer, Progress};
+use crate::solver::{Checkpoint, Frame, HistoryRow, Observer, Progress};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -35,10 +36,12 @@ pub struct Sink {
     tx: mpsc::Sender<(Checkpoint, Duration)>,
 }
 
-/// The solver's observer for a job: the hub's, plus checkpoints when the job takes them.
+/// The solver's observer for a job: the hub's, plus checkpoints when the job takes them and
+/// frames when its case keeps a series.
 pub struct RunObserver {
     pub job: JobObserver,
     pub sink: Option<Sink>,
+    pub frames: Option<FrameSink>,
 }
 
 impl Observer for RunObserver {
@@ -64,6 +67,14 @@ impl Observer for RunObserver {
         };
         s.asked = Instant::now();
         s.stopping.load(Ordering::SeqCst)
+    }
+    fn wants_frames(&self) -> bool {
+        self.frames.is_some()
+    }
+    fn on_frame(&mut self, frame: &Frame) {
+        if let Some(frames) = &self.frames {
+            frames.send(frame);
+        }
     }
     fn on_checkpoint(&mut self, checkpoint: Checkpoint) {
         if let Some(s) = &mut self.sink {

@@ -141,7 +141,14 @@ fn ordered_paths() -> Vec<(Option<String>, String)> {
 fn derive_fields() -> Vec<Field> {
     let schemas = case_schemas();
     let case = schemas.get("Case").cloned().unwrap_or(Value::Null);
-    let defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    let mut defaults = serde_json::to_value(CaseSpec::default()).unwrap_or(Value::Null);
+    // A case's JSON leaves `output.frames` out at its default (no series): the form shows it.
+    if let Some(output) = defaults
+        .pointer_mut("/output")
+        .and_then(Value::as_object_mut)
+    {
+        output.insert("frames".into(), CaseSpec::default().output.frames.into());
+    }
     let presets: Vec<(&'static str, Value)> = Preset::ALL
         .iter()
         .map(|p| {
@@ -425,7 +432,7 @@ mod tests {
         // In the types' order, the case's sections as the page groups them.
         assert_eq!(all[0].field, "label");
         assert_eq!(all[1].field, "tube.thickness_mm");
-        assert_eq!(all.last().unwrap().field, "output.error_bar");
+        assert_eq!(all.last().unwrap().field, "output.frames");
     }
 
     #[test]

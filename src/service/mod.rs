@@ -14,6 +14,7 @@ pub mod hub;
 mod metrics;
 mod retention;
 mod routes;
+mod series;
 pub mod store;
 pub mod sweep;
 mod views;

@@ -4,6 +4,7 @@
 
 use super::checkpointing::{self, RunObserver};
 use super::hub::{self, Hub, JobObserver};
+use super::series;
 use super::store::{signals, Claimed, Result as StoreResult, Signal, Status, Store, Succeeded};
 use super::views;
 use crate::export;
@@ -311,12 +312,15 @@ impl Workers {
             job.clone(),
         );
         let (sink, writer) = started.unzip();
+        let series = series::start(case.spec().output.frames, self.store.clone(), job.clone());
+        let (frames, frame_writer) = series.unzip();
         let mut observer = RunObserver {
             job: JobObserver {
                 publisher,
                 latest: running.latest.clone(),
             },
             sink,
+            frames,
         };
         tracing::info!(job = %id, attempt = job.attempt, particles, "job started");
         let heartbeat = tokio::spawn(heartbeat(
@@ -334,12 +338,15 @@ impl Workers {
                     runner.add_error_bar_if_asked(&case, &mut out, &cancel)?;
                     Ok(out)
                 });
-            // The sink goes with the observer: the writer stores what it has and ends.
+            // The sinks go with the observer: the writers store what they have and end.
             (out, observer.job.publisher)
         })
         .await;
         heartbeat.abort();
         if let Some(writer) = writer {
+            let _ = writer.await;
+        }
+        if let Some(writer) = frame_writer {
             let _ = writer.await;
         }
         let user_cancel = running.user_cancel.load(Ordering::Relaxed);

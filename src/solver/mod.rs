@@ -29,7 +29,7 @@ pub use analysis::reference::{references, References};
 pub use analysis::summary::{summarize, EnergyBooks, Summary};
 pub use engine::checkpoint::{Checkpoint, CheckpointError, Resume};
 pub use engine::history::HistoryRow;
-pub use engine::observer::{Observer, Progress, Recorder};
+pub use engine::observer::{Frame, Observer, Progress, Recorder};
 pub use engine::{Finished, RunCost, Snapshot, SolveError};
 pub use model::case::{Case, CaseError, CaseSpec, FieldError, Limits};
 pub use runner::{cores, Runner};

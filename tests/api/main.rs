@@ -22,6 +22,7 @@ mod manage;
 mod requests;
 mod restart;
 mod results;
+mod series;
 mod store;
 mod timeouts;
 mod views;

@@ -164,7 +164,10 @@ fn physics(job: &serde_json::Value) -> serde_json::Value {
 async fn a_server_killed_at_80_percent_resumes_the_job_from_its_checkpoint_with_the_same_bits() {
     let (_dir, db) = temp_db();
     let client = client();
-    let case = resumable_case();
+    // With a time series: the frames before the checkpoint are the first server's, the rest
+    // the second's, and the lot is the uninterrupted run's.
+    let mut case = resumable_case();
+    case["output"]["frames"] = serde_json::json!(6);
     let mut first = Child::start(&db, &RESUMING);
     let id = submit_to(&client, &first.url, &case).await;
     wait_for_checkpoint(&client, &first.url, &id, 0.75).await;
@@ -209,7 +212,19 @@ async fn a_server_killed_at_80_percent_resumes_the_job_from_its_checkpoint_with_
         let url = format!("{}/v1/jobs/{job}/state.vtu", second.url);
         async move { client.get(url).send().await.unwrap().bytes().await.unwrap() }
     };
-    assert_eq!(state(id.clone()).await, state(other).await);
+    assert_eq!(state(id.clone()).await, state(other.clone()).await);
+    for file in ["series.pvd", "frames/0.vtu", "frames/2.vtu", "frames/5.vtu"] {
+        let download = |job: &str| {
+            let url = format!("{}/v1/jobs/{job}/{file}", second.url);
+            let client = client.clone();
+            async move {
+                let r = client.get(url).send().await.unwrap();
+                assert_eq!(r.status(), 200, "{file}");
+                r.bytes().await.unwrap()
+            }
+        };
+        assert_eq!(download(&id).await, download(&other).await, "{file}");
+    }
 }
 
 async fn second_job(client: &reqwest::Client, base: &str, id: &str) -> serde_json::Value {

@@ -140,7 +140,8 @@ class Client:
         return self._json("GET", f"/v1/jobs/{job_id}/summary")
 
     def download(self, job_id: str, what: str, path: str) -> str:
-        """Saves `plot.svg`, `shape.png` or `state.vtu` of a succeeded job to `path`."""
+        """Saves `plot.svg`, `shape.png`, `state.vtu` or (a case with `output.frames`)
+        `series.tar`, `series.pvd` or `frames/{k}.vtu` of a succeeded job to `path`."""
         r = self._request("GET", f"/v1/jobs/{job_id}/{what}", stream=True, timeout=(self.timeout, 300))
         with open(path, "wb") as f:
             for chunk in r.iter_content(1 << 16):

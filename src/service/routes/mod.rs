@@ -6,6 +6,7 @@ mod jobs;
 mod misc;
 mod page;
 mod results;
+mod series;
 mod session;
 mod sweeps;
 
@@ -94,6 +95,9 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
             "/v1/jobs/{id}/particles.csv",
             get(results::particles_csv),
         ),
+        ("GET", "/v1/jobs/{id}/series.pvd", get(series::series_pvd)),
+        ("GET", "/v1/jobs/{id}/series.tar", get(series::series_tar)),
+        ("GET", "/v1/jobs/{id}/frames/{name}", get(series::frame_vtu)),
         ("GET", "/v1/jobs/{id}/events", get(events::events)),
         ("POST", "/v1/sweeps", post(sweeps::create)),
         ("GET", "/v1/sweeps", get(sweeps::list)),

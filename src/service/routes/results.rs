@@ -17,10 +17,10 @@ use axum::response::Response;
 use futures::StreamExt;
 
 /// A succeeded job never changes again, so its pictures and files may be cached.
-const CACHE: &str = "private, max-age=86400";
+pub(super) const CACHE: &str = "private, max-age=86400";
 
 /// A succeeded job; 404 for an unknown job, 409 saying `why` for one that has not succeeded.
-async fn succeeded(s: &AppState, id: &str, why: &str) -> Result<JobRecord, ApiError> {
+pub(super) async fn succeeded(s: &AppState, id: &str, why: &str) -> Result<JobRecord, ApiError> {
     let uuid = parse_id(id, "job")?;
     let record = s
         .store
@@ -195,7 +195,7 @@ pub async fn particles_csv(
 /// A body that `write` fills on a blocking thread, in [`CHUNK`]s sent as the client reads,
 /// holding `permit` until it is written; an error ends the body cut short (the client sees a
 /// cut transfer, not a file) and is logged as failing to write `what`.
-fn streamed(
+pub(super) fn streamed(
     permit: tokio::sync::OwnedSemaphorePermit,
     what: &'static str,
     write: impl FnOnce(&mut ChunkSink) -> std::io::Result<()> + Send + 'static,
@@ -220,7 +220,9 @@ fn streamed(
 
 /// A turn at building a large answer (held until it is sent, where the body is streamed);
 /// 503 after [`HEAVY_WAIT`] without one.
-async fn heavy_permit(s: &AppState) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+pub(super) async fn heavy_permit(
+    s: &AppState,
+) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
     match tokio::time::timeout(HEAVY_WAIT, s.heavy.clone().acquire_owned()).await {
         Ok(permit) => permit.map_err(ApiError::internal),
         Err(_) => Err(ApiError::Unavailable {
@@ -248,7 +250,7 @@ const CHUNK: usize = 256 * 1024;
 
 /// Sends what is written to a response body in [`CHUNK`]s; fails with `BrokenPipe` once the
 /// client has gone, which stops the writer.
-struct ChunkSink {
+pub(super) struct ChunkSink {
     tx: tokio::sync::mpsc::Sender<std::io::Result<axum::body::Bytes>>,
     buffer: Vec<u8>,
 }

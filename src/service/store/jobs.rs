@@ -175,6 +175,7 @@ impl Store {
                 .execute(&mut *tx)
                 .await?;
                 super::checkpoints::forget(&mut tx, &id.to_string()).await?;
+                super::frames::forget(&mut tx, &id.to_string()).await?;
                 Status::Cancelled
             }
             Status::Running => {

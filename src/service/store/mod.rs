@@ -8,6 +8,7 @@
 mod backend;
 mod checkpoints;
 mod file;
+mod frames;
 mod jobs;
 mod removal;
 pub mod signals;
@@ -15,6 +16,7 @@ mod sweeps;
 mod worker;
 
 pub use checkpoints::StoredCheckpoint;
+pub use frames::{StoredFrame, PART_PARTICLES};
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use removal::{Deleted, Pruned};
 pub use signals::Signal;

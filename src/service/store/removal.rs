@@ -1,6 +1,6 @@
 //! Deleting what clients no longer need: a finished job, a sweep whose jobs have all finished,
 //! and (retention, `--keep-days`) every finished job and sweep older than a cutoff. A job's
-//! summary, history, final state and checkpoint go with its row (`ON DELETE CASCADE`); a
+//! summary, history, final state, frames and checkpoint go with its row (`ON DELETE CASCADE`); a
 //! sweep's jobs go with it, in the same transaction.
 
 use super::{now_ms, Result, Status, Store};
@@ -189,6 +189,19 @@ mod tests {
     /// Runs the oldest queued job to success with a history row and a final state.
     async fn succeed(store: &Store) -> Uuid {
         let claim = store.claim("t").await.unwrap().unwrap();
+        let frame = crate::service::store::StoredFrame {
+            at: crate::export::series::FrameTime {
+                index: 0,
+                travel_mm: 0.0,
+                time_ms: 0.0,
+            },
+            particles: 1,
+            data: vec![0u8; 56],
+        };
+        assert!(store
+            .save_frame(claim.id, claim.lease, &frame)
+            .await
+            .unwrap());
         let summary = crate::service::store::sample_summary();
         let row = crate::solver::HistoryRow::default();
         let result = Succeeded {
@@ -212,6 +225,7 @@ mod tests {
             ("summaries", "job_id"),
             ("history", "job_id"),
             ("final_states", "job_id"),
+            ("frames", "job_id"),
             ("checkpoints", "job_id"),
         ] {
             let (n,): (i64,) =
@@ -232,8 +246,8 @@ mod tests {
         store.submit(done.clone(), 10).await.unwrap();
         assert_eq!(succeed(&store).await, done.id);
         assert!(
-            rows_of(&store, done.id).await >= 4,
-            "job, summary, history, state"
+            rows_of(&store, done.id).await >= 5,
+            "job, summary, history, state, frame"
         );
         let queued = job();
         store.submit(queued.clone(), 10).await.unwrap();

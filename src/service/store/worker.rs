@@ -311,6 +311,7 @@ impl Store {
         let (failed, cancelled) = (ids(failed)?, ids(cancelled)?);
         for id in failed.iter().chain(&cancelled) {
             super::checkpoints::forget(&mut tx, &id.to_string()).await?;
+            super::frames::forget(&mut tx, &id.to_string()).await?;
         }
         tx.commit().await?;
         Ok(Reaped {
@@ -351,6 +352,7 @@ async fn end_run(
     error: Option<&str>,
 ) -> Result<()> {
     super::checkpoints::forget(tx, &id.to_string()).await?;
+    super::frames::forget(tx, &id.to_string()).await?;
     sqlx::query(
         "UPDATE jobs SET status = $1, error = $2, finished_at = $3, lease = NULL, \
          heartbeat_at = NULL WHERE id = $4",

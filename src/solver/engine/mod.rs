@@ -16,6 +16,7 @@
 //! does before and after them.
 
 pub mod checkpoint;
+mod frames;
 pub mod grid;
 pub mod history;
 pub mod observer;

@@ -1,8 +1,9 @@
 //! How a run reports while it goes: the [`Observer`] trait. The solver calls it on its own
-//! thread between steps; `()` ignores everything.
+//! thread between steps; `()` ignores everything. Units: mm, ms, m/s, MPa, mm³.
 
 use crate::solver::engine::checkpoint::Checkpoint;
 use crate::solver::engine::history::HistoryRow;
+use crate::solver::Real;
 use schemars::JsonSchema;
 
 /// A progress report, sent once per history row.
@@ -23,6 +24,28 @@ pub struct Progress {
     pub eta_s: f64,
 }
 
+/// Every particle's state at one frame of a time series (`output.frames`), in the case's
+/// particle order and the frame of the scene (`Geometry::reported`). In the reduced models a
+/// particle stands for its ring (axisymmetric) or the tube's length (plane strain), and its
+/// volume is that of what it stands for.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Frame {
+    /// Which frame, 0 (the start) to `count - 1` (the end of the crush).
+    pub index: u32,
+    pub count: u32,
+    /// Simulated time, ms.
+    pub time_ms: Real,
+    /// Top-plate travel, mm.
+    pub travel_mm: Real,
+    pub position_mm: Vec<[Real; 3]>,
+    pub velocity_m_s: Vec<[Real; 3]>,
+    /// Cauchy stress, Voigt order xx, yy, zz, yz, xz, xy, MPa.
+    pub stress_mpa: Vec<[Real; 6]>,
+    pub volume_mm3: Vec<Real>,
+    /// Equivalent plastic strain.
+    pub plastic_strain: Vec<Real>,
+}
+
 /// Receives a run's progress and, when it asks for them, its checkpoints. Every method
 /// defaults to doing nothing (and asking for nothing).
 pub trait Observer {
@@ -40,6 +63,14 @@ pub trait Observer {
     }
     /// A checkpoint of the run at the current step boundary.
     fn on_checkpoint(&mut self, _checkpoint: Checkpoint) {}
+    /// Whether to build the frames of a case that asks for a series (`output.frames`); the run
+    /// is the same either way.
+    fn wants_frames(&self) -> bool {
+        false
+    }
+    /// One frame of the series, in order; a run continued from a checkpoint sends the frames
+    /// after it.
+    fn on_frame(&mut self, _frame: &Frame) {}
 }
 
 impl Observer for () {}
@@ -49,6 +80,7 @@ impl Observer for () {}
 pub struct Recorder {
     pub progress: Vec<Progress>,
     pub rows: Vec<HistoryRow>,
+    pub frames: Vec<Frame>,
 }
 
 impl Observer for Recorder {
@@ -57,5 +89,11 @@ impl Observer for Recorder {
     }
     fn on_history(&mut self, row: &HistoryRow) {
         self.rows.push(*row);
+    }
+    fn wants_frames(&self) -> bool {
+        true
+    }
+    fn on_frame(&mut self, frame: &Frame) {
+        self.frames.push(frame.clone());
     }
 }

@@ -1,9 +1,10 @@
 //! The run loop: a case → scene → steps until the plate has travelled the crush distance, with
-//! history rows at equal displacement intervals, progress reports, checkpoints, cancellation
-//! and blow-up detection. A run continued from a checkpoint ([`resume`]) gives the same bits as
+//! history rows at equal displacement intervals, progress reports, the frames of a time series,
+//! checkpoints, cancellation and blow-up detection. A run continued from a checkpoint ([`resume`]) gives the same bits as
 //! one that never stopped. Units: mm, ms, N, mJ.
 
 use super::checkpoint::{Checkpoint, Resume, Tally};
+use super::frames::Schedule;
 use super::history::HistoryRow;
 use super::kernel::{Engine, SolveError};
 use super::observer::{Observer, Progress};
@@ -135,12 +136,16 @@ impl Driver for Run<'_> {
         let ramp = sim.scene().ramp;
         // The time the plate would take at full speed; the rows are at equal travel.
         let duration = crush / speed;
+        let resumed = from.is_some();
         let mut tally = match from {
             Some(from) => from.restore(&mut sim),
             None => Tally::new(points),
         };
         let before_s = tally.elapsed_s;
         let elapsed = |start: Instant| before_s + start.elapsed().as_secs_f64();
+        let resumed_at = resumed.then(|| sim.time());
+        let mut frames = Schedule::new(case, ramp, duration, resumed_at);
+        frames.send_due(case, &sim, observer);
         for k in tally.rows.len() + 1..=points {
             let end = ramp.time_at(duration * k as Real / points as Real);
             while end - sim.time() > 1e-9 * duration {
@@ -163,6 +168,7 @@ impl Driver for Run<'_> {
                 tally.dt_max_ms = tally.dt_max_ms.max(info.stable_dt);
                 tally.active_cells_max = tally.active_cells_max.max(sim.active_cells());
                 runaway(&sim, tally.kinetic)?;
+                frames.send_due(case, &sim, observer);
             }
             let interval = sim.time() - tally.row_start_ms;
             let e = *sim.energy();

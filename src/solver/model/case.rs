@@ -50,6 +50,9 @@ impl Case {
         }
         let geometry = Geometry::of(&spec);
         let (particles, steps) = c.costs(&spec, &geometry, crush, limits);
+        if let Some(particles) = particles {
+            checks::series_size(&mut c, &spec.output, particles);
+        }
         let case = match (particles, steps) {
             (Some(particles), Some(steps)) if c.errors.is_empty() => Case {
                 shape: match spec.discretization.shape {

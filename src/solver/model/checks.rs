@@ -6,7 +6,7 @@ use super::limits::FieldError;
 use super::material::checks as material_checks;
 use super::spec::{
     wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
-    Output, RateKind, Trigger, Tube, DEFAULT_RAMP_MM,
+    Output, RateKind, Trigger, Tube, DEFAULT_RAMP_MM, MAX_FRAMES, MAX_SERIES_PARTICLES,
 };
 
 /// The failures found so far.
@@ -213,12 +213,39 @@ pub(super) fn trigger(c: &mut Checker, g: &Trigger) {
     }
 }
 
-/// The output: a history of a sensible length.
+/// The output: a history of a sensible length; no series, or one of at least two frames (the
+/// start and the end) and at most [`MAX_FRAMES`].
 pub(super) fn output(c: &mut Checker, o: &Output) {
     if !(10..=100_000).contains(&o.history_points) {
         c.fail(
             "output.history_points",
             "must be an integer in [10, 100000]",
+        );
+    }
+    if o.frames == 1 || o.frames > MAX_FRAMES {
+        c.fail(
+            "output.frames",
+            &format!(
+                "must be 0 (no time series) or an integer in [2, {MAX_FRAMES}]: the first frame \
+                 is the start and the last the end of the crush"
+            ),
+        );
+    }
+}
+
+/// A series of at most [`MAX_SERIES_PARTICLES`] particle states, so that its bytes are bounded.
+pub(super) fn series_size(c: &mut Checker, o: &Output, particles: u64) {
+    let states = o.frames as f64 * particles as f64;
+    if states > MAX_SERIES_PARTICLES as f64 {
+        let most = MAX_SERIES_PARTICLES / particles.max(1);
+        c.fail(
+            "output.frames",
+            &format!(
+                "gives {} frames × {particles} particles = {states:.3e} particle states, more \
+                 than the {MAX_SERIES_PARTICLES} a series may hold (56 bytes each stored): this \
+                 case may keep at most {most} frames",
+                o.frames
+            ),
         );
     }
 }

@@ -200,6 +200,25 @@ impl Geometry {
         }
     }
 
+    /// A vector of the engine (a velocity) in the frame of [`Geometry::reported`].
+    pub fn reported_vector(&self, v: &Vector3<Real>) -> [Real; 3] {
+        match self.model {
+            Model::ThreeD | Model::Axisymmetric => [v.x, v.y, v.z],
+            Model::PlaneStrain => [v.y, v.x, v.z],
+        }
+    }
+
+    /// A stress of the engine (Voigt order xx, yy, zz, yz, xz, xy) in the frame of
+    /// [`Geometry::reported`]: in plane strain the engine's x is the reported y and its removed
+    /// y the reported x, so the two swap; axisymmetric, the engine's (r, θ, z) is (x, y, z) at
+    /// angle 0.
+    pub fn reported_stress(&self, s: &[Real; 6]) -> [Real; 6] {
+        match self.model {
+            Model::ThreeD | Model::Axisymmetric => *s,
+            Model::PlaneStrain => [s[1], s[0], s[2], s[4], s[3], s[5]],
+        }
+    }
+
     /// Where the plates start, z of (the moving top plate, the fixed bottom plate), mm: on the
     /// tube's ends (axial) or on its outer surface (lateral).
     pub fn plates_z(&self) -> (Real, Real) {

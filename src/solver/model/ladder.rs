@@ -55,6 +55,7 @@ pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseS
             twin.discretization.shape = Some(ShapeKind::Gimp);
             twin.trigger.weak_fraction = 0.0;
             twin.output.final_state = false;
+            twin.output.frames = 0;
             twin.output.error_bar = false;
             (k, Some(twin))
         })

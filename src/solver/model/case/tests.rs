@@ -520,3 +520,55 @@ fn an_error_bar_is_held_with_its_ladder_to_the_limits_and_refused_where_no_ladde
         "{errors:?}"
     );
 }
+
+#[test]
+fn a_series_of_one_frame_or_of_more_than_fifty_is_refused_naming_output_frames() {
+    for frames in [1, 51, 1000] {
+        let text = format!(r#"{{"output": {{"frames": {frames}}}}}"#);
+        let Err(CaseError::Invalid(errors)) = Case::from_json(&text, &Limits::default()) else {
+            panic!("accepted {frames} frames")
+        };
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert_eq!(errors[0].field, "output.frames");
+        assert!(errors[0].reason.contains("[2, 50]"), "{}", errors[0].reason);
+    }
+    for frames in [0, 2, 50] {
+        let text = format!(r#"{{"output": {{"frames": {frames}}}}}"#);
+        let case = Case::from_json(&text, &Limits::default()).unwrap();
+        assert_eq!(case.spec().output.frames, frames);
+    }
+}
+
+#[test]
+fn a_series_over_ten_million_particle_states_is_refused_with_the_frames_the_case_may_keep() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/axial_t0.76_d19.81.json"
+    );
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let with_frames = |spec: &mut serde_json::Value, frames: u32| {
+        spec["output"]["frames"] = frames.into();
+        Case::from_json(&spec.to_string(), &Limits::default())
+    };
+    let case = with_frames(&mut spec, 19).unwrap();
+    assert_eq!(case.particle_count(), 525_310);
+    let Err(CaseError::Invalid(errors)) = with_frames(&mut spec, 20) else {
+        panic!("accepted 20 frames of 525 310 particles")
+    };
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(errors[0].field, "output.frames");
+    assert!(
+        errors[0].reason.contains("at most 19 frames"),
+        "{}",
+        errors[0].reason
+    );
+}
+
+#[test]
+fn a_case_without_a_series_serializes_without_the_frames_field() {
+    let case = Case::from_json("{}", &Limits::default()).unwrap();
+    let json = serde_json::to_value(case.spec()).unwrap();
+    assert!(json["output"].get("frames").is_none(), "{json}");
+    assert!(crate::solver::model::spec::field_paths().contains(&"output.frames".to_string()));
+}
