@@ -9,6 +9,7 @@ mod backend;
 mod checkpoints;
 mod file;
 mod jobs;
+mod rates;
 mod removal;
 pub mod signals;
 mod sweeps;
@@ -16,6 +17,7 @@ mod worker;
 
 pub use checkpoints::StoredCheckpoint;
 pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
+pub use rates::RATE_JOBS_READ;
 pub use removal::{Deleted, Pruned};
 pub use signals::Signal;
 pub use sweeps::{NewSweep, SweepFilter, SweepListed, SweepRecord, SweepSubmitted};
