@@ -147,10 +147,13 @@ fn reduced_model(spec: &CaseSpec) -> Option<Model> {
 
 /// What a run of `model` with `shape` can show of `spec`'s tube.
 fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
-    let mut s = match model {
-        Model::ThreeD => "every mode: rings, lobes (diamond), global buckling, end effects",
-        Model::Axisymmetric => "rings only: no lobes, no global buckling",
-        Model::PlaneStrain => "the section's flattening only: no end effects",
+    let mut s = match (model, spec.loading.mode) {
+        (Model::ThreeD, LoadingMode::Axial) => {
+            "every mode: rings, lobes (diamond), global buckling, end effects"
+        }
+        (Model::ThreeD, LoadingMode::Lateral) => "the whole tube, end effects included",
+        (Model::Axisymmetric, _) => "rings only: no lobes, no global buckling",
+        (Model::PlaneStrain, _) => "the section's flattening only: no end effects",
     }
     .to_string();
     let d_over_t = spec.tube.mean_diameter_mm / spec.tube.thickness_mm;
@@ -172,7 +175,10 @@ pub fn pick(options: &[PlanOption], own: Model, goal: Goal) -> (Option<&PlanOpti
         .filter(|o| o.model == own)
         .filter_map(|o| o.expected_error_percent.map(|e| (o, e)))
         .collect();
-    let model = own.name().replace('_', " ");
+    let model = match own {
+        Model::ThreeD => "3D".to_string(),
+        other => other.name().replace('_', " "),
+    };
     if known.is_empty() {
         return (
             None,
