@@ -227,7 +227,7 @@ async function showPlan(base, seq) {
   if (seq !== estimateSeq || !document.getElementById("plan")) return;
   if (!r.ok) { out.textContent = ""; return; }
   const options = r.data.options;
-  const own = options.length ? options[0].model : null;
+  const own = (base.discretization && base.discretization.model) || "3d";
   const known = options.filter((o) => o.expected_error_percent !== null);
   const parts = [];
   let last = null;

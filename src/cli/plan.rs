@@ -69,8 +69,11 @@ pub fn plan(args: PlanArgs) -> anyhow::Result<()> {
     for o in &p.options {
         println!("    {}", line(o));
     }
-    if p.over_limits > 0 {
-        println!("  {} more past --max-particles", p.over_limits);
+    if p.refused > 0 {
+        println!(
+            "  {} more refused (--max-particles, or a check at that n)",
+            p.refused
+        );
     }
     println!("  errors: {}", p.error_basis);
     Ok(())

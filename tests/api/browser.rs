@@ -139,7 +139,10 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
         "the plan",
     )
     .await;
-    assert!(plan.as_str().unwrap().contains("axisymmetric n = "), "{plan}");
+    assert!(
+        plan.as_str().unwrap().contains("axisymmetric n = "),
+        "{plan}"
+    );
     // Two particles through the wall: the form says, before the run, why the result will be
     // read with caution.
     let foreseen = until(

@@ -82,7 +82,7 @@ async fn a_plan_picks_the_cheapest_3d_run_for_a_target_and_calibrates_on_finishe
         (&json!("3d"), &json!(8)),
         "{p}"
     );
-    assert_eq!(p["over_limits"], 2, "{p}");
+    assert_eq!(p["refused"], 2, "{p}");
     let e = app.estimate(&short_case()).await;
     assert_eq!(e["wall_time_basis"], measured, "{e}");
 }

@@ -64,8 +64,9 @@ pub struct Plan {
     pub reason: String,
     /// How the expected errors are predicted.
     pub error_basis: String,
-    /// Options left out because the runner's limits refuse them (particles or steps).
-    pub over_limits: u32,
+    /// Options left out because the case is refused at that model, shape and n: over the
+    /// runner's limits (particles, steps), or a check that depends on the resolution.
+    pub refused: u32,
 }
 
 /// The plan for `case` towards `goal` on `threads` threads, wall times at `rates`, options held
@@ -75,7 +76,7 @@ pub fn plan(case: &Case, goal: Goal, threads: u32, rates: &Rates, limits: &Limit
     let own = spec.discretization.model;
     let mode = spec.loading.mode;
     let mut options = Vec::new();
-    let mut over_limits = 0;
+    let mut refused = 0;
     let mut candidates: Vec<(Model, ShapeKind, u32)> = Vec::new();
     for shape in [ShapeKind::Gimp, ShapeKind::Linear] {
         for (n, _) in error_table(mode, own) {
@@ -100,7 +101,7 @@ pub fn plan(case: &Case, goal: Goal, threads: u32, rates: &Rates, limits: &Limit
             s.trigger.weak_fraction = 0.0;
         }
         let Ok(option) = Case::parse(s, limits) else {
-            over_limits += 1;
+            refused += 1;
             continue;
         };
         let c = cost(&option, threads, rates);
@@ -129,7 +130,7 @@ pub fn plan(case: &Case, goal: Goal, threads: u32, rates: &Rates, limits: &Limit
         options,
         reason,
         error_basis: ERROR_BASIS.into(),
-        over_limits,
+        refused,
     }
 }
 

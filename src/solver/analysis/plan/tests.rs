@@ -105,7 +105,7 @@ fn the_paper_case_at_five_percent_runs_3d_at_n_8_and_lists_its_section() {
         .options
         .iter()
         .any(|o| o.shape == ShapeKind::Linear && o.expected_error_percent.is_none()));
-    assert_eq!(p.over_limits, 0);
+    assert_eq!(p.refused, 0);
     // Wall times grow with n within a model and shape.
     let walls: Vec<f64> = p
         .options
@@ -126,7 +126,7 @@ fn options_past_the_runners_limits_are_left_out_and_counted() {
     let p = plan(&case, Goal::BudgetS(1e6), 1, &Rates::assumed(), &limits);
     assert!(p.options.iter().all(|o| o.particles <= 120_000));
     // 3D n = 8 and 10, each with both shape functions.
-    assert_eq!(p.over_limits, 4);
+    assert_eq!(p.refused, 4);
     assert_eq!(p.pick.unwrap().n, 6);
 }
 
