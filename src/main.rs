@@ -1,4 +1,4 @@
-//! `crush serve | run | estimate | bench | study | openapi`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | estimate | plan | bench | bench-plan | study | openapi`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -21,6 +21,9 @@ enum Command {
     Run(crush::cli::RunArgs),
     /// What a case will cost and what its verdict can already say, without running it.
     Estimate(crush::cli::EstimateArgs),
+    /// The runs (model, shape functions, n) that reach a target error or fit a time budget,
+    /// each with its expected error and wall time, and the one to pick.
+    Plan(crush::cli::PlanArgs),
     /// Accuracy and stability studies: convergence, stability, speed.
     Study(crush::cli::StudyArgs),
     /// Print the HTTP contract (OpenAPI 3.1, YAML): api/paths.yaml's prose with the schemas
@@ -28,6 +31,8 @@ enum Command {
     Openapi,
     /// Measure solver speed (particle-steps/s), time per phase and memory per particle.
     Bench(crush::cli::BenchArgs),
+    /// Wall-time guesses (assumed and calibrated rates) against measured runs of the cases.
+    BenchPlan(crush::cli::BenchPlanArgs),
     /// One bench measurement (used by `bench`; reads the case on stdin).
     #[command(hide = true)]
     BenchOne(crush::cli::BenchOneArgs),
@@ -56,6 +61,8 @@ fn run(command: Command) -> anyhow::Result<()> {
         }
         Command::Run(args) => crush::cli::run(args),
         Command::Estimate(args) => crush::cli::estimate(args),
+        Command::Plan(args) => crush::cli::plan(args),
+        Command::BenchPlan(args) => crush::cli::bench_plan(args),
         Command::Bench(args) => crush::cli::bench(args),
         Command::Openapi => {
             print!("{}", crush::service::contract::yaml());

@@ -1,4 +1,4 @@
-// crush web page: the case form, built from GET /v1/case/fields; the browser checks each field, the server the whole case (POST /v1/estimate), and refusals show beside their fields.
+// crush web page: the case form, built from GET /v1/case/fields; the browser checks each field, the server the whole case (POST /v1/estimate) and how to run it (POST /v1/plan), and refusals show beside their fields.
 import { api, el, seconds, verdictName } from "./util.js";
 import { refreshJobList } from "./list.js";
 
@@ -194,6 +194,7 @@ function scheduleEstimate() {
       showProblem(null);
       const e = r.data;
       showForeseen(e.verdict);
+      showPlan(base, seq);
       out.textContent = `${e.particles.toLocaleString()} particles, ${e.steps.toLocaleString()} steps, ` +
         `about ${seconds(e.wall_time_s)} on ${e.threads} thread${e.threads === 1 ? "" : "s"}, ` +
         `${(e.memory_bytes / 2 ** 20).toFixed(0)} MiB` +
@@ -203,10 +204,50 @@ function scheduleEstimate() {
           `it cannot show ${e.reduced.cannot_show}.` : "");
     } else {
       out.textContent = "";
+      document.getElementById("plan").textContent = "";
       showForeseen(null);
       showProblem(r.data);
     }
   }, 350);
+}
+
+/// Targets the plan line offers, % error of the mean load.
+const PLAN_TARGETS = [5, 10];
+/// The reduced model's option the plan line offers: its most accurate within this, s.
+const PLAN_REDUCED_S = 60;
+
+/// The planner's answer beside Run (POST /v1/plan): the cheapest run of the case's own model
+/// for each target, and the most accurate of its reduced model within a minute, with what it
+/// cannot show; e.g. "±5 %: n = 8, about 11.6 min; ±10 %: n = 6, about 3.7 min;
+/// axisymmetric n = 16 (±0.4 %), about 1.2 min, rings only".
+async function showPlan(base, seq) {
+  const out = document.getElementById("plan");
+  if (!out) return;
+  const r = await api("POST", "/v1/plan", { case: base, target_error_percent: PLAN_TARGETS[0] });
+  if (seq !== estimateSeq || !document.getElementById("plan")) return;
+  if (!r.ok) { out.textContent = ""; return; }
+  const options = r.data.options;
+  const own = (base.discretization && base.discretization.model) || "3d";
+  const known = options.filter((o) => o.expected_error_percent !== null);
+  const parts = [];
+  let last = null;
+  for (const t of PLAN_TARGETS) {
+    const fits = known.filter((o) => o.model === own && o.expected_error_percent <= t);
+    const o = fits.sort((a, b) => a.wall_time_s - b.wall_time_s)[0];
+    if (!o) { parts.push(`±${t} %: no ${own} run within this server's limits`); continue; }
+    if (o === last) continue;
+    last = o;
+    parts.push(`±${t} %: n = ${o.n}, about ${seconds(o.wall_time_s)}`);
+  }
+  const reduced = known.filter((o) => o.model !== own && o.wall_time_s <= PLAN_REDUCED_S)
+    .sort((a, b) => a.expected_error_percent - b.expected_error_percent)[0];
+  if (reduced) {
+    parts.push(`${reduced.model.replace("_", " ")} n = ${reduced.n} (±${reduced.expected_error_percent} %), ` +
+      `about ${seconds(reduced.wall_time_s)}, ${reduced.shows.split(":")[0]}`);
+  }
+  const basis = options.some((o) => o.wall_time_basis.source === "measured") ? "times from this server's runs" : "times at assumed rates";
+  out.textContent = `Plan (uGIMP, errors of the mean load; ${basis}): ${parts.join("; ")}.`;
+  out.title = r.data.error_basis;
 }
 
 /// The level the case alone foretells (the estimate's verdict), for the Run button.
@@ -261,6 +302,7 @@ export async function renderForm(main, fromJob) {
       el("button", { type: "submit", id: "submit" }, "Run"),
       el("button", { type: "button", class: "secondary", id: "reset", onclick: () => renderForm(document.getElementById("main")) }, "Defaults"),
       el("span", { id: "estimate" })),
+    el("p", { class: "muted", id: "plan", role: "status" }),
     el("p", { class: "muted", id: "sweep-estimate" }),
     el("div", { class: "foreseen", id: "foreseen", role: "status" }),
     el("p", { class: "form-error", id: "form-error" }));

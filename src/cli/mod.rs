@@ -1,12 +1,15 @@
 //! Command-line runners around the solver: `crush run CASE.json` runs one case with a progress
 //! bar, prints a summary and writes `history.csv` and `summary.json`; `crush estimate
 //! CASE.json` prints what a case will cost and what its verdict can say before it runs;
-//! `crush bench` measures the solver's speed and memory; `crush study` runs convergence,
+//! `crush plan CASE.json` the runs that reach a target error or fit a budget (`crush
+//! bench-plan` holds its wall-time guesses to measured runs); `crush bench` measures the solver's speed and memory; `crush study` runs convergence,
 //! stability and plate-speed studies.
 
 mod bench;
 mod estimate;
 mod output;
+mod plan;
+mod plan_bench;
 mod progress;
 mod report;
 mod run;
@@ -16,6 +19,8 @@ mod study;
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
 pub use estimate::estimate;
 pub use output::{write_history_csv, write_summary_json, SummaryFile};
+pub use plan::{plan, PlanArgs};
+pub use plan_bench::{bench_plan, BenchPlanArgs};
 pub use report::format_report;
 pub use run::run;
 pub use study::{study, StudyArgs};

@@ -40,6 +40,7 @@ pub fn schemas() -> Map<String, Value> {
     add::<CaseSpec>(&mut requests);
     add::<sweep::SweepRequest>(&mut requests);
     add::<routes::SignIn>(&mut requests);
+    add::<routes::PlanRequest>(&mut requests);
 
     let mut responses = generator(Contract::Serialize);
     add::<error::Problem>(&mut responses);
@@ -47,6 +48,7 @@ pub fn schemas() -> Map<String, Value> {
     add::<views::JobPage>(&mut responses);
     add::<views::HistoryView<'static>>(&mut responses);
     add::<crate::solver::Estimate>(&mut responses);
+    add::<crate::solver::analysis::plan::Plan>(&mut responses);
     add::<form::Field>(&mut responses);
     add::<routes::SessionView>(&mut responses);
     add::<views::SweepView>(&mut responses);
@@ -59,8 +61,29 @@ pub fn schemas() -> Map<String, Value> {
     for schema in all.values_mut() {
         plain_descriptions(schema);
         no_true_schemas(schema);
+        no_null_defaults_of_non_null_types(schema);
     }
     all
+}
+
+/// A `default: null` on a schema whose type has no null (an optional field read as a plain
+/// number, `#[serde(default)]` on an `Option`) would be a default the schema itself refuses.
+fn no_null_defaults_of_non_null_types(schema: &mut Value) {
+    match schema {
+        Value::Object(m) => {
+            let nullable = match m.get("type") {
+                Some(Value::String(t)) => t == "null",
+                Some(Value::Array(t)) => t.iter().any(|t| t == "null"),
+                _ => true,
+            };
+            if !nullable && m.get("default") == Some(&Value::Null) {
+                m.remove("default");
+            }
+            m.values_mut().for_each(no_null_defaults_of_non_null_types);
+        }
+        Value::Array(a) => a.iter_mut().for_each(no_null_defaults_of_non_null_types),
+        _ => {}
+    }
 }
 
 /// `true` (any value) written as the empty schema `{}`, which means the same: schemars writes
@@ -192,6 +215,19 @@ pub(crate) mod tests {
         assert_valid("Estimate", &estimate);
         estimate.as_object_mut().unwrap().remove("particles");
         assert!(errors("Estimate", &estimate).is_some());
+        use crate::solver::analysis::{plan, rates::Rates};
+        for goal in [
+            plan::Goal::TargetErrorPercent(5.0),
+            plan::Goal::BudgetS(1.0),
+        ] {
+            let p = plan::plan(&case, goal, 2, &Rates::assumed(), &Limits::default());
+            assert_valid("Plan", &serde_json::to_value(&p).unwrap());
+        }
+        assert_valid(
+            "PlanRequest",
+            &serde_json::json!({"case": {}, "target_error_percent": 5}),
+        );
+        assert!(errors("PlanRequest", &serde_json::json!({"case": {}})).is_some());
         for f in super::super::form::fields() {
             assert_valid("CaseField", &serde_json::to_value(&f).unwrap());
         }

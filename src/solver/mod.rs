@@ -23,7 +23,7 @@ pub mod engine;
 pub mod model;
 mod runner;
 
-pub use analysis::estimate::{estimate, Estimate};
+pub use analysis::estimate::{estimate, estimate_with, Estimate};
 pub use analysis::mode::{detect_mode, CollapseMode, ModeDetail};
 pub use analysis::reference::{references, References};
 pub use analysis::summary::{summarize, EnergyBooks, Summary};

@@ -131,6 +131,18 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
         "the estimate",
     )
     .await;
+    // The planner's line beside Run: the cheapest run for ±5 %, and the section's.
+    let plan = until(
+        &c,
+        "const t = document.getElementById('plan').textContent; return t.includes('±5 %') ? t : null;",
+        long,
+        "the plan",
+    )
+    .await;
+    assert!(
+        plan.as_str().unwrap().contains("axisymmetric n = "),
+        "{plan}"
+    );
     // Two particles through the wall: the form says, before the run, why the result will be
     // read with caution.
     let foreseen = until(

@@ -19,6 +19,7 @@ mod events;
 mod guard;
 mod jobs;
 mod manage;
+mod plan;
 mod requests;
 mod restart;
 mod results;

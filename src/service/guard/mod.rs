@@ -51,7 +51,7 @@ pub struct AccessArgs {
     /// Who may read /metrics when tokens are configured.
     #[arg(long, env = "CRUSH_METRICS_ACCESS", value_enum, default_value_t = Access::Read)]
     pub metrics_access: Access,
-    /// Submits, sweeps, estimates and sign-ins a client (a token, or an address without one)
+    /// Submits, sweeps, estimates, plans and sign-ins a client (a token, or an address without one)
     /// may make per second on average.
     #[arg(long, env = "CRUSH_RATE_LIMIT_PER_S", default_value_t = NonZeroU32::new(20).unwrap())]
     pub rate_limit_per_s: NonZeroU32,
@@ -328,7 +328,7 @@ fn rate_limited(method: &Method, path: &str) -> bool {
     *method == Method::POST
         && matches!(
             path,
-            "/v1/jobs" | "/v1/sweeps" | "/v1/estimate" | "/v1/session"
+            "/v1/jobs" | "/v1/sweeps" | "/v1/estimate" | "/v1/plan" | "/v1/session"
         )
 }
 

@@ -1,6 +1,6 @@
-//! The per-client rate limit of the routes that cost work (submits, sweeps, estimates, sign-ins):
-//! a token bucket per client (governor's GCRA), keyed by token name, or by the peer's address
-//! for a client without one.
+//! The per-client rate limit of the routes that cost work (submits, sweeps, estimates, plans,
+//! sign-ins): a token bucket per client (governor's GCRA), keyed by token name, or by the
+//! peer's address for a client without one.
 
 use crate::service::error::ApiError;
 use governor::clock::{Clock, DefaultClock};
@@ -40,7 +40,7 @@ impl Limiter {
             let wait = not_until.wait_time_from(DefaultClock::default().now());
             ApiError::TooManyRequests {
                 detail: format!(
-                    "too many submits, sweeps, estimates or sign-ins from {client} (at most {} a \
+                    "too many submits, sweeps, estimates, plans or sign-ins from {client} (at most {} a \
                      second on average); try again in {:.1} s",
                     self.per_s,
                     wait.as_secs_f64()

@@ -28,7 +28,7 @@ const MAX_CHARS: usize = 256;
 pub enum Role {
     /// Every GET: jobs, results, event streams, sweeps, metrics.
     Read,
-    /// Also submit jobs and sweeps, ask for estimates, and cancel the jobs it submitted.
+    /// Also submit jobs and sweeps, ask for estimates and plans, and cancel the jobs it submitted.
     Submit,
     /// Also cancel any job.
     Admin,

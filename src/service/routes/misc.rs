@@ -1,10 +1,11 @@
-//! `/healthz`, Prometheus `/metrics`, and `POST /v1/estimate`.
+//! `/healthz`, Prometheus `/metrics`, and `POST /v1/estimate` (its wall times at the rates
+//! measured on this server's finished jobs).
 
 use super::{json_text, AppState};
 use crate::service::error::{ApiError, STORE_RETRY_AFTER_S};
 use crate::service::metrics;
 use crate::service::store::{Status, StoreError};
-use crate::solver::{estimate as solver_estimate, model::case::spec_from_json, Case, Estimate};
+use crate::solver::{estimate_with, model::case::spec_from_json, Case, Estimate};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::State;
@@ -73,11 +74,12 @@ pub async fn estimate(
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let limits = s.limits.case;
     let threads = s.workers.threads_per_job() as u32;
+    let rates = super::plan::calibrated_rates(&s).await;
     let estimate = s
         .cpu
         .run(move || -> Result<Estimate, ApiError> {
             let case = Case::parse(spec_from_json(&text)?, &limits)?;
-            Ok(solver_estimate(&case, threads))
+            Ok(estimate_with(&case, threads, &rates))
         })
         .await??;
     Ok(Json(estimate))

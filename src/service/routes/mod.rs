@@ -5,11 +5,13 @@ mod events;
 mod jobs;
 mod misc;
 mod page;
+mod plan;
 mod results;
 mod series;
 mod session;
 mod sweeps;
 
+pub(crate) use plan::PlanRequest;
 pub use results::HEAVY_AT_ONCE;
 pub(crate) use session::{SessionView, SignIn};
 
@@ -80,6 +82,7 @@ fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
         ("GET", "/healthz", get(misc::healthz)),
         ("GET", "/metrics", get(misc::metrics)),
         ("POST", "/v1/estimate", post(misc::estimate)),
+        ("POST", "/v1/plan", post(plan::plan)),
         ("POST", "/v1/jobs", post(jobs::submit)),
         ("GET", "/v1/jobs", get(jobs::list)),
         ("GET", "/v1/jobs/{id}", get(jobs::get)),

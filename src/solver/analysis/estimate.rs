@@ -1,5 +1,6 @@
 //! What a case will cost before it runs: particles, cells, steps, memory, wall time.
 
+use super::rates::{RateBasis, Rates};
 use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
 use crate::solver::model::ladder::rungs;
@@ -7,30 +8,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::solver::model::case::Limits;
-use crate::solver::model::case::{LoadingMode, Model, ShapeChoice, ShapeKind};
-
-/// Throughput assumed for the wall-time guess, particle-steps per second per thread, by shape
-/// function: `crush bench` (docs/performance.md) measured medians of 2.8–3.6 M/s for uGIMP and
-/// 5.4–6.3 M/s for linear shapes on one thread from n = 2 to 10, and 4.6–5.9 M / 9.4–10.7 M
-/// on two from n = 4 to 10; rounded down to allow for a shared machine.
-pub fn assumed_particle_steps_per_s_per_thread(shape: ShapeKind) -> f64 {
-    match shape {
-        ShapeKind::Gimp => 2.5e6,
-        ShapeKind::Linear => 4.5e6,
-    }
-}
-
-/// The same for a reduced model's section, which gains little past two threads (its scatter
-/// runs in bands of 1024 particles): `crush bench-one` on the axisymmetric paper case measured
-/// 4.4 M (uGIMP) and 6.6 M (linear) particle-steps/s on one thread at n = 16, 7.0 M and 8.1 M
-/// on two, and about 5 M on two for the 380 particles of n = 4; rounded down.
-fn section_particle_steps_per_s(shape: ShapeKind, threads: u32) -> f64 {
-    let one = match shape {
-        ShapeKind::Gimp => 3.5e6,
-        ShapeKind::Linear => 5.0e6,
-    };
-    one * (1.0 + 0.5 * (threads.clamp(1, 2) - 1) as f64)
-}
+use crate::solver::model::case::{LoadingMode, Model, ShapeChoice};
 
 /// Bytes of solver state per particle, grid included (an upper bound used for the estimate:
 /// measured peaks are 270–480 B per particle from n = 4 up, and up to 850 B for the smallest
@@ -47,6 +25,10 @@ pub struct Estimate {
     pub memory_bytes: u64,
     /// Expected wall time on `threads` threads, s.
     pub wall_time_s: f64,
+    /// The throughput the wall times assume: measured on this machine's finished runs of the
+    /// same model and shape function, or the fixed default.
+    #[serde(default)]
+    pub wall_time_basis: RateBasis,
     pub threads: u32,
     /// The shape functions the case will run with, and why when it named none.
     pub shape: ShapeChoice,
@@ -74,9 +56,14 @@ pub struct Reduced {
     pub cannot_show: String,
 }
 
-/// Cost of running `case` on `threads` threads.
+/// Cost of running `case` on `threads` threads, at the assumed rates.
 pub fn estimate(case: &Case, threads: u32) -> Estimate {
-    let mut e = cost(case, threads);
+    estimate_with(case, threads, &Rates::assumed())
+}
+
+/// Cost of running `case` on `threads` threads, its wall times at `rates`.
+pub fn estimate_with(case: &Case, threads: u32, rates: &Rates) -> Estimate {
+    let mut e = cost(case, threads, rates);
     if case.spec().output.error_bar {
         // `Case::parse` checked that every rung parses and fits the limits.
         let rungs = rungs(case.spec(), case.shape()).unwrap_or_default();
@@ -84,12 +71,12 @@ pub fn estimate(case: &Case, threads: u32) -> Estimate {
             rungs
                 .into_iter()
                 .filter_map(|(_, twin)| Case::parse(twin?, &Limits::unbounded()).ok())
-                .map(|twin| cost(&twin, threads).wall_time_s)
+                .map(|twin| cost(&twin, threads, rates).wall_time_s)
                 .sum(),
         );
     }
     e.reduced = reduced(case).map(|(model, r)| {
-        let c = cost(&r, threads);
+        let c = cost(&r, threads, rates);
         Reduced {
             model,
             particles: c.particles,
@@ -125,21 +112,16 @@ fn reduced(case: &Case) -> Option<(Model, Case)> {
 }
 
 /// Particles, cells, steps, memory and wall time of `case` alone.
-fn cost(case: &Case, threads: u32) -> Estimate {
+pub(super) fn cost(case: &Case, threads: u32, rates: &Rates) -> Estimate {
     let spec = case.spec();
     let d = &spec.discretization;
     let particles = case.particle_count();
     let k = d.cell_to_particle_ratio;
-    let (cells, rate) = match d.model {
-        Model::ThreeD => (
-            particles as f64 / (k * k * k),
-            assumed_particle_steps_per_s_per_thread(case.shape()) * threads.max(1) as f64,
-        ),
-        _ => (
-            particles as f64 / (k * k),
-            section_particle_steps_per_s(case.shape(), threads),
-        ),
+    let cells = match d.model {
+        Model::ThreeD => particles as f64 / (k * k * k),
+        _ => particles as f64 / (k * k),
     };
+    let (rate, basis) = rates.rate(d.model, case.shape(), threads);
     // Both counts were computed, and held to the caller's limits, by `Case::parse`.
     let steps = case.step_count();
     Estimate {
@@ -148,6 +130,7 @@ fn cost(case: &Case, threads: u32) -> Estimate {
         steps,
         memory_bytes: particles * ASSUMED_BYTES_PER_PARTICLE,
         wall_time_s: particles as f64 * steps as f64 / rate,
+        wall_time_basis: basis,
         threads,
         shape: case.shape_choice().clone(),
         reduced: None,

@@ -11,6 +11,8 @@ pub mod folds;
 pub mod measures;
 pub mod mode;
 pub mod peaks;
+pub mod plan;
+pub mod rates;
 pub mod reference;
 pub mod richardson;
 pub mod summary;

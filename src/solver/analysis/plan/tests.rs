@@ -1,0 +1,145 @@
+use super::*;
+use crate::solver::model::case::spec_from_json;
+
+fn option(model: Model, n: u32, error: Option<f64>, wall_time_s: f64) -> PlanOption {
+    PlanOption {
+        model,
+        shape: ShapeKind::Gimp,
+        n,
+        particles: 1,
+        steps: 1,
+        expected_error_percent: error,
+        wall_time_s,
+        wall_time_basis: RateBasis::Assumed,
+        shows: String::new(),
+    }
+}
+
+fn options() -> Vec<PlanOption> {
+    vec![
+        option(Model::ThreeD, 4, Some(11.6), 40.0),
+        option(Model::ThreeD, 6, Some(6.3), 200.0),
+        option(Model::ThreeD, 8, Some(2.1), 650.0),
+        option(Model::ThreeD, 10, Some(1.1), 1600.0),
+        option(Model::ThreeD, 12, None, 10.0),
+        option(Model::Axisymmetric, 16, Some(0.4), 60.0),
+    ]
+}
+
+#[test]
+fn a_target_is_met_by_the_cheapest_option_of_the_cases_own_model() {
+    let options = options();
+    let (p, why) = pick(&options, Model::ThreeD, Goal::TargetErrorPercent(5.0));
+    let p = p.unwrap();
+    // n = 10 meets it too, and the section meets it for less: neither is the pick.
+    assert_eq!((p.model, p.n), (Model::ThreeD, 8), "{why}");
+    assert!(why.contains("n = 8"), "{why}");
+    let (p, _) = pick(&options, Model::ThreeD, Goal::TargetErrorPercent(10.0));
+    assert_eq!(p.unwrap().n, 6);
+}
+
+#[test]
+fn a_budget_is_met_by_the_most_accurate_option_that_fits() {
+    let options = options();
+    let (p, why) = pick(&options, Model::ThreeD, Goal::BudgetS(700.0));
+    assert_eq!(p.unwrap().n, 8, "{why}");
+    // The option with no known error is never picked, however cheap.
+    let (p, _) = pick(&options, Model::ThreeD, Goal::BudgetS(45.0));
+    assert_eq!(p.unwrap().n, 4);
+}
+
+#[test]
+fn when_no_option_meets_the_goal_the_plan_says_so() {
+    let options = options();
+    let (p, why) = pick(&options, Model::ThreeD, Goal::TargetErrorPercent(0.5));
+    assert!(p.is_none());
+    assert!(why.contains("±0.5 %") && why.contains("n = 10"), "{why}");
+    let (p, why) = pick(&options, Model::ThreeD, Goal::BudgetS(5.0));
+    assert!(p.is_none());
+    assert!(why.contains("5 s") && why.contains("n = 4"), "{why}");
+    let (p, why) = pick(&options, Model::PlaneStrain, Goal::BudgetS(5.0));
+    assert!(p.is_none() && why.contains("plane strain"), "{why}");
+}
+
+#[test]
+fn expected_errors_are_the_tables_and_in_between_interpolated() {
+    let e = |n| expected_error_percent(LoadingMode::Axial, Model::ThreeD, ShapeKind::Gimp, n);
+    assert_eq!(e(8), Some(2.1));
+    assert_eq!(e(16), Some(1.1));
+    let seven = e(7).unwrap();
+    assert!(seven < 6.3 && seven > 2.1, "{seven}");
+    assert_eq!(
+        expected_error_percent(LoadingMode::Axial, Model::ThreeD, ShapeKind::Linear, 8),
+        None
+    );
+}
+
+fn paper_case(model: &str) -> Case {
+    let text = format!(
+        r#"{{"loading": {{"crush_distance_mm": 50}}, "discretization": {{"model": "{model}"}}}}"#
+    );
+    Case::parse(spec_from_json(&text).unwrap(), &Limits::unbounded()).unwrap()
+}
+
+#[test]
+fn the_paper_case_at_five_percent_runs_3d_at_n_8_and_lists_its_section() {
+    let case = paper_case("3d");
+    let p = plan(
+        &case,
+        Goal::TargetErrorPercent(5.0),
+        2,
+        &Rates::assumed(),
+        &Limits::unbounded(),
+    );
+    let pick = p.pick.as_ref().unwrap();
+    assert_eq!(
+        (pick.model, pick.shape, pick.n),
+        (Model::ThreeD, ShapeKind::Gimp, 8)
+    );
+    assert_eq!(p.target_error_percent, Some(5.0));
+    assert!(p
+        .options
+        .iter()
+        .any(|o| o.model == Model::Axisymmetric && o.shows.starts_with("rings only")));
+    assert!(p
+        .options
+        .iter()
+        .any(|o| o.shape == ShapeKind::Linear && o.expected_error_percent.is_none()));
+    assert_eq!(p.refused, 0);
+    // Wall times grow with n within a model and shape.
+    let walls: Vec<f64> = p
+        .options
+        .iter()
+        .filter(|o| o.model == Model::ThreeD && o.shape == ShapeKind::Gimp)
+        .map(|o| o.wall_time_s)
+        .collect();
+    assert!(walls.windows(2).all(|w| w[0] < w[1]), "{walls:?}");
+}
+
+#[test]
+fn options_past_the_runners_limits_are_left_out_and_counted() {
+    let case = paper_case("3d");
+    let limits = Limits {
+        max_particles: 120_000,
+        ..Limits::unbounded()
+    };
+    let p = plan(&case, Goal::BudgetS(1e6), 1, &Rates::assumed(), &limits);
+    assert!(p.options.iter().all(|o| o.particles <= 120_000));
+    // 3D n = 8 and 10, each with both shape functions.
+    assert_eq!(p.refused, 4);
+    assert_eq!(p.pick.unwrap().n, 6);
+}
+
+#[test]
+fn a_case_with_a_trigger_has_no_section_options() {
+    let text = r#"{"trigger": {"weak_fraction": 0.1}}"#;
+    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
+    let p = plan(
+        &case,
+        Goal::BudgetS(60.0),
+        2,
+        &Rates::assumed(),
+        &Limits::unbounded(),
+    );
+    assert!(p.options.iter().all(|o| o.model == Model::ThreeD));
+}

@@ -1,0 +1,162 @@
+//! `POST /v1/plan`: the options and the pick for a target error or a time budget, wall times
+//! calibrated on the server's finished jobs, and every bad field of the request named.
+
+use crate::common::*;
+use serde_json::{json, Value};
+use std::time::Duration;
+
+/// A short tube and a 1 mm crush: every 3D option but the finest fits the server's limits.
+fn short_case() -> Value {
+    json!({
+        "tube": {"length_mm": 8},
+        "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20}
+    })
+}
+
+async fn plan(app: &TestApp, body: &Value) -> Value {
+    let r = app.post_json("/v1/plan", body).await;
+    assert_eq!(r.status(), 200, "{}", r.text().await.unwrap());
+    r.json().await.unwrap()
+}
+
+/// The basis of the wall time of each option of `model` and `shape`.
+fn bases(plan: &Value, model: &str, shape: &str) -> Vec<Value> {
+    plan["options"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["model"] == model && o["shape"] == shape)
+        .map(|o| o["wall_time_basis"].clone())
+        .collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_plan_picks_the_cheapest_3d_run_for_a_target_and_calibrates_on_finished_jobs() {
+    // 3D at n = 10 has 54 500 particles here: over this server's limit.
+    let app = TestApp::start(&["--max-particles", "30000"]).await;
+    let p = plan(
+        &app,
+        &json!({"case": short_case(), "target_error_percent": 20}),
+    )
+    .await;
+    // 3D uGIMP is expected within 17 % at n = 3, the cheapest within 20 %.
+    assert_eq!(p["pick"]["model"], "3d", "{p}");
+    assert_eq!(p["pick"]["shape"], "gimp", "{p}");
+    assert_eq!(p["pick"]["n"], 3, "{p}");
+    assert_eq!(p["target_error_percent"], 20.0);
+    assert!(p["reason"].as_str().unwrap().contains("n = 3"), "{p}");
+    let section = bases(&p, "axisymmetric", "gimp");
+    assert!(!section.is_empty(), "{p}");
+    let all_assumed = |p: &Value| {
+        p["options"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|o| o["wall_time_basis"] == json!({"source": "assumed"}))
+    };
+    assert!(all_assumed(&p), "{p}");
+
+    // One finished 3D uGIMP job: its rate now times every 3D uGIMP option, and the estimate.
+    let job = app.submit(&tiny_case()).await;
+    let id = job["id"].as_str().unwrap();
+    let done = app
+        .wait_for(id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    let p = plan(&app, &json!({"case": short_case(), "budget_s": 1e6})).await;
+    let measured = json!({"source": "measured", "runs": 1});
+    assert!(
+        bases(&p, "3d", "gimp").iter().all(|b| *b == measured),
+        "{p}"
+    );
+    assert!(bases(&p, "3d", "linear")
+        .iter()
+        .all(|b| b["source"] == "assumed"));
+    assert!(bases(&p, "axisymmetric", "gimp")
+        .iter()
+        .all(|b| b["source"] == "assumed"));
+    // The most accurate option within the limits, whatever it costs: n = 8, with n = 10 (both
+    // shape functions) left out.
+    assert_eq!(
+        (&p["pick"]["model"], &p["pick"]["n"]),
+        (&json!("3d"), &json!(8)),
+        "{p}"
+    );
+    assert_eq!(p["refused"], 2, "{p}");
+    let e = app.estimate(&short_case()).await;
+    assert_eq!(e["wall_time_basis"], measured, "{e}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_target_no_option_reaches_gives_no_pick_and_says_why() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let p = plan(
+        &app,
+        &json!({"case": short_case(), "target_error_percent": 0.01}),
+    )
+    .await;
+    assert_eq!(p["pick"], Value::Null, "{p}");
+    assert!(p["reason"].as_str().unwrap().contains("±0.01 %"), "{p}");
+    let p = plan(&app, &json!({"case": short_case(), "budget_s": 1e-6})).await;
+    assert_eq!(p["pick"], Value::Null, "{p}");
+    assert!(p["reason"].as_str().unwrap().contains("fits in"), "{p}");
+}
+
+/// Each bad request → 422 naming every bad field, or 400 for a body that is no JSON object.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bad_plan_requests_are_refused_naming_each_field() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let cases = [
+        (
+            json!({"case": short_case()}),
+            vec!["target_error_percent", "budget_s"],
+        ),
+        (
+            json!({"case": short_case(), "target_error_percent": 5, "budget_s": 60}),
+            vec!["target_error_percent", "budget_s"],
+        ),
+        (
+            json!({"case": short_case(), "target_error_percent": -1}),
+            vec!["target_error_percent"],
+        ),
+        (
+            json!({"case": short_case(), "target_error_percent": 101}),
+            vec!["target_error_percent"],
+        ),
+        (
+            json!({"case": short_case(), "budget_s": "soon"}),
+            vec!["budget_s"],
+        ),
+        (json!({"budget_s": 60}), vec!["case"]),
+        (
+            json!({"case": short_case(), "budget_s": 60, "n": 4}),
+            vec!["n"],
+        ),
+        (
+            json!({"case": {"tube": {"thickness_mm": -1}}, "budget_s": 60}),
+            vec!["case.tube.thickness_mm"],
+        ),
+        (
+            json!({"case": {"tube": {"wall": 1}}, "budget_s": 60}),
+            vec!["case.tube.wall"],
+        ),
+    ];
+    for (body, fields) in cases {
+        let r = app.post_json("/v1/plan", &body).await;
+        assert_eq!(r.status(), 422, "{body}");
+        let p: Value = r.json().await.unwrap();
+        let named: Vec<&str> = p["errors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e["field"].as_str().unwrap())
+            .collect();
+        for f in &fields {
+            assert!(named.contains(f), "{body}: {p}");
+        }
+    }
+    for body in [json!([1, 2]), json!("plan")] {
+        let r = app.post_json("/v1/plan", &body).await;
+        assert_eq!(r.status(), 400, "{body}");
+    }
+}
