@@ -92,9 +92,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
     let history_path = out_dir.join("history.csv");
     let result = result.and_then(|mut output| {
-        if args.error_bar || case.spec().output.error_bar {
+        if args.error_bar {
             eprintln!("pricing the mean load's error bar (its section at three resolutions)");
             runner.add_error_bar(&case, &mut output, &cancel)?;
+        } else {
+            runner.add_error_bar_if_asked(&case, &mut output, &cancel)?;
         }
         Ok(output)
     });

@@ -4,6 +4,7 @@
 //! of a step runs in a fixed order).
 
 use super::analysis::error_bar::{self, ErrorBar};
+use super::analysis::estimate::{error_bar_cost_fraction, UNASKED_ERROR_BAR_FRACTION};
 use super::engine::scene::Scene;
 use super::model::case::Model;
 use super::{Case, Observer, Resume, RunOutput, SolveError};
@@ -78,9 +79,10 @@ impl Runner {
         })
     }
 
-    /// The run's error bar ([`error_bar`]) when its case asks for it (`output.error_bar`): its
-    /// reduced twin run at the ladder's resolutions on the pool, or why there is none; stored
-    /// in the output's summary.
+    /// The run's error bar ([`error_bar`]), or why it has none, in the output's summary: its
+    /// reduced twin run at the ladder's resolutions on the pool when the case asks for it
+    /// (`output.error_bar`) or when that costs at most [`UNASKED_ERROR_BAR_FRACTION`] of the
+    /// run; else the summary says why not (no ladder for this run, or what it would cost).
     pub fn add_error_bar_if_asked(
         &self,
         case: &Case,
@@ -88,7 +90,25 @@ impl Runner {
         cancel: &AtomicBool,
     ) -> Result<(), SolveError> {
         if case.spec().output.error_bar {
-            self.add_error_bar(case, out, cancel)?;
+            return self.add_error_bar(case, out, cancel);
+        }
+        if let Err(why) = error_bar::ladder(case, &out.summary) {
+            out.summary.error_bar = Some(ErrorBar::Unavailable { why });
+            return Ok(());
+        }
+        match error_bar_cost_fraction(case) {
+            Some(f) if f <= UNASKED_ERROR_BAR_FRACTION => self.add_error_bar(case, out, cancel)?,
+            Some(f) => {
+                out.summary.error_bar = Some(ErrorBar::Unavailable {
+                    why: format!(
+                        "not priced: its section at three resolutions would cost about {f:.1} \
+                         times this run (unasked, an error bar may add {:.0} %); set \
+                         output.error_bar to price it",
+                        100.0 * UNASKED_ERROR_BAR_FRACTION
+                    ),
+                })
+            }
+            None => {}
         }
         Ok(())
     }

@@ -174,7 +174,11 @@ fn run_prices_the_error_bar_with_rungs_that_are_runs_of_their_own() {
     assert_eq!(rungs[0].1, s["mean_load_n"].as_f64().unwrap());
     let twelve = run("n12", case(12, false));
     assert_eq!(rungs[1].1, twelve["mean_load_n"].as_f64().unwrap());
-    assert!(twelve.get("error_bar").is_none(), "not asked for");
+    // Not asked for, and its ladder (n = 12, 18, 24) costs many times the run: not priced,
+    // and the summary says so.
+    assert_eq!(twelve["error_bar"]["basis"], "unavailable", "{twelve}");
+    let why = twelve["error_bar"]["why"].as_str().unwrap();
+    assert!(why.starts_with("not priced"), "{why}");
     let (low, high) = (
         bar["low_n"].as_f64().unwrap(),
         bar["high_n"].as_f64().unwrap(),

@@ -39,8 +39,9 @@ pub struct Estimate {
     /// The verdict as far as the case alone tells it: the run's own may add reasons its
     /// numbers show (energy books, inertia), never take these away.
     pub verdict: Verdict,
-    /// When the case asks for an error bar (`output.error_bar`): the expected wall time of its
-    /// ladder's rungs, s, on top of `wall_time_s`.
+    /// When the run will price an error bar (`output.error_bar`, or unasked when it costs at
+    /// most [`UNASKED_ERROR_BAR_FRACTION`] of the run): the expected wall time of its ladder's
+    /// rungs, s, on top of `wall_time_s`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_bar_wall_time_s: Option<f64>,
 }
@@ -64,16 +65,10 @@ pub fn estimate(case: &Case, threads: u32) -> Estimate {
 /// Cost of running `case` on `threads` threads, its wall times at `rates`.
 pub fn estimate_with(case: &Case, threads: u32, rates: &Rates) -> Estimate {
     let mut e = cost(case, threads, rates);
-    if case.spec().output.error_bar {
-        // `Case::parse` checked that every rung parses and fits the limits.
-        let rungs = rungs(case.spec(), case.shape()).unwrap_or_default();
-        e.error_bar_wall_time_s = Some(
-            rungs
-                .into_iter()
-                .filter_map(|(_, twin)| Case::parse(twin?, &Limits::unbounded()).ok())
-                .map(|twin| cost(&twin, threads, rates).wall_time_s)
-                .sum(),
-        );
+    let ladder_s = ladder_wall_time_s(case, threads, rates);
+    let unasked = ladder_s.is_some_and(|s| s <= UNASKED_ERROR_BAR_FRACTION * e.wall_time_s);
+    if case.spec().output.error_bar || unasked {
+        e.error_bar_wall_time_s = ladder_s;
     }
     e.reduced = reduced(case).map(|(model, r)| {
         let c = cost(&r, threads, rates);
@@ -93,6 +88,36 @@ pub fn estimate_with(case: &Case, threads: u32, rates: &Rates) -> Estimate {
         }
     });
     e
+}
+
+/// The most an error bar may add to a run's own expected wall time, as a share of it, to be
+/// priced without being asked (`output.error_bar` false): the ladder of a 3D run at n = 8 of
+/// the paper's tube costs about a seventh of the run, at n = 6 half, at n = 4 two and a half
+/// times (docs/trust.md).
+pub const UNASKED_ERROR_BAR_FRACTION: f64 = 0.25;
+
+/// The expected wall time of the case's error-bar ladder (its rungs that are runs of their
+/// own), s; `None` when the case has no ladder (its shape functions, or a rung the limits
+/// refuse).
+pub fn ladder_wall_time_s(case: &Case, threads: u32, rates: &Rates) -> Option<f64> {
+    let rungs = rungs(case.spec(), case.shape()).ok()?;
+    rungs
+        .into_iter()
+        .filter_map(|(_, twin)| twin)
+        .map(|twin| {
+            Case::parse(twin, &Limits::unbounded())
+                .ok()
+                .map(|twin| cost(&twin, threads, rates).wall_time_s)
+        })
+        .sum()
+}
+
+/// The error bar's expected cost over the run's own, at the same rates (so independent of
+/// them but for the model and shape): `None` when the case has no ladder.
+pub fn error_bar_cost_fraction(case: &Case) -> Option<f64> {
+    let rates = Rates::assumed();
+    let ladder = ladder_wall_time_s(case, 1, &rates)?;
+    Some(ladder / cost(case, 1, &rates).wall_time_s.max(1e-12))
 }
 
 /// The reduced model that fits a 3D case, as a case of its own.

@@ -318,12 +318,15 @@ pub struct Output {
         description = "Needed for the deformed-tube picture and the VTU file; 16 bytes a particle."
     )]
     pub final_state: bool,
-    /// After the run, price the mean load's error bar by running the tube's section at three
-    /// resolutions (`analysis::error_bar`). Off by default: below n = 8 the ladder costs more
-    /// than a 3D run of its own (2.5 times at n = 4, half at n = 6, a seventh at n = 8).
+    /// After the run, price the error bar of the mean load and the first collapse peak by
+    /// running the tube's section at three resolutions (`analysis::error_bar`), whatever it
+    /// costs. Left false, the run prices it anyway where that costs at most a quarter of the
+    /// run (`analysis::estimate::UNASKED_ERROR_BAR_FRACTION`: a 3D run from about n = 8), and
+    /// otherwise its summary says why not (the ladder costs 2.5 times a 3D run at n = 4, half
+    /// at n = 6, a seventh at n = 8).
     #[schemars(
         title = "Error bar",
-        description = "After the run, price the mean load's discretization error with the tube's section at three resolutions (n or 8, 1.5x, 2x). Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."
+        description = "Price the discretization error of the mean load and the first collapse peak after the run, with the tube's section at three resolutions (n or 8, 1.5x, 2x), whatever it costs. Left off, it is priced anyway where it costs at most a quarter of the run (3D from about n = 8), else the summary says why not. Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."
     )]
     pub error_bar: bool,
     /// Particle states kept as a time series for ParaView, at equal plate-travel intervals from

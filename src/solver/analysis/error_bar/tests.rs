@@ -170,3 +170,97 @@ fn linear_shapes_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 40}}"#);
     assert!(ladder(&fine, &ring).unwrap_err().contains("past its 64"));
 }
+
+/// The paper's axial case (uGIMP, 50 mm): first collapse peaks (`first_peak_load_n`, N) of the
+/// axisymmetric section at n = 4 to 20 and of 3D at n = 4 and 6, measured with `crush run` on
+/// the cases of `docs/trust.md` (section: one thread; 3D: two threads). The section's peak has
+/// settled from n = 10 on, to within 10 N of 15 378 N.
+const SECTION_PEAKS: [(u32, f64); 8] = [
+    (4, 15_240.9),
+    (6, 15_373.8),
+    (8, 15_360.7),
+    (10, 15_376.7),
+    (12, 15_378.0),
+    (15, 15_375.3),
+    (16, 15_383.1),
+    (20, 15_373.2),
+];
+
+#[test]
+fn the_paper_case_first_peak_intervals_hold_the_sections_settled_peak_at_n_4_and_6() {
+    let peak = |n: u32| SECTION_PEAKS.iter().find(|p| p.0 == n).unwrap().1;
+    let settled = SECTION_PEAKS.iter().filter(|p| p.0 >= 10).map(|p| p.1);
+    let (lowest, highest) = settled.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
+    for (n, three_d_peak) in [(4, 15_294.3), (6, 15_352.6)] {
+        let mut run = summary(13_000.0, CollapseMode::Ring);
+        run.measures.first_peak_load_n = Some(three_d_peak);
+        let mut spec = gimp.spec().clone();
+        spec.discretization.particles_through_thickness = n;
+        let c = Case::parse(spec, &Limits::default()).unwrap();
+        let rungs: Vec<Rung> = ladder(&c, &run)
+            .unwrap()
+            .iter()
+            .map(|(k, _)| Rung {
+                n: *k,
+                mean_load_n: 13_000.0,
+                first_peak_load_n: Some(peak(*k)),
+                wall_time_s: 1.0,
+            })
+            .collect();
+        let l = ladder_of(from_rungs(Model::Axisymmetric, rungs, &run, n, true));
+        let p = l.first_peak.expect("every rung has a first peak");
+        assert!(
+            p.low_n <= lowest && highest <= p.high_n,
+            "n = {n}: {p:?} against {lowest}..{highest}"
+        );
+        // The twin gap is the 3D run's distance from its section at the same n.
+        let gap = (three_d_peak - peak(n)).abs() / p.estimate_n;
+        assert!((p.twin_gap - gap).abs() < 1e-12, "{p:?}");
+        assert!((p.error - (three_d_peak / p.estimate_n - 1.0)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn a_rung_without_a_first_peak_leaves_the_first_peak_without_an_interval() {
+    let mut run = summary(13_000.0, CollapseMode::Ring);
+    run.measures.first_peak_load_n = Some(15_000.0);
+    let mut points = rungs(&[(8, 13_000.0), (12, 12_900.0), (16, 12_850.0)]);
+    for (r, p) in points.iter_mut().zip([15_100.0, 15_050.0, 15_020.0]) {
+        r.first_peak_load_n = Some(p);
+    }
+    let with = ladder_of(from_rungs(
+        Model::Axisymmetric,
+        points.clone(),
+        &run,
+        8,
+        false,
+    ));
+    assert!(with.first_peak.is_some());
+    points[1].first_peak_load_n = None;
+    let without = ladder_of(from_rungs(Model::Axisymmetric, points, &run, 8, false));
+    assert_eq!(without.first_peak, None);
+}
+
+#[test]
+fn an_error_bar_is_priced_unasked_only_where_it_costs_at_most_a_quarter_of_the_run() {
+    use crate::solver::analysis::estimate::{
+        error_bar_cost_fraction, estimate, UNASKED_ERROR_BAR_FRACTION,
+    };
+    let at = |n: u32| {
+        case(&format!(
+            r#"{{"discretization": {{"shape": "gimp", "particles_through_thickness": {n}}}}}"#
+        ))
+    };
+    let fraction = |n| error_bar_cost_fraction(&at(n)).unwrap();
+    // The paper's tube in 3D: the ladder (8, 12, 16 and the run's own n) against the run.
+    assert!(fraction(4) > 1.0, "{}", fraction(4));
+    assert!(fraction(6) > UNASKED_ERROR_BAR_FRACTION, "{}", fraction(6));
+    assert!(fraction(8) < UNASKED_ERROR_BAR_FRACTION, "{}", fraction(8));
+    // The estimate foretells it: the ladder's time where it will run unasked, none elsewhere.
+    assert!(estimate(&at(8), 2).error_bar_wall_time_s.is_some());
+    assert_eq!(estimate(&at(4), 2).error_bar_wall_time_s, None);
+    // Linear shape functions have no ladder at all.
+    let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
+    assert_eq!(error_bar_cost_fraction(&linear), None);
+}
