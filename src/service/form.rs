@@ -197,6 +197,8 @@ fn derive_fields() -> Vec<Field> {
         };
         let (min, min_exclusive) = bound("minimum", "exclusiveMinimum");
         let (max, max_exclusive) = bound("maximum", "exclusiveMaximum");
+        // A bound past 2⁵³ (a u64 seed's) is the type's, not one the form can check exactly.
+        let max = max.filter(|m| *m < 9_007_199_254_740_992.0);
         // Only the fields the server fills in itself (label, crush distance, start ramp,
         // shape functions, the material's preset and the laws a preset may fill) have no
         // default in the serialized case: those are the optional ones.

@@ -59,7 +59,7 @@ pub struct SweepRequest {
 pub struct EnsembleRequest {
     /// A whole number; `5.0` reads as 5, as JSON Schema's `integer` has it.
     #[serde(deserialize_with = "whole::<_, u64>")]
-    #[schemars(range(min = 2))]
+    #[schemars(range(min = 2), extend("maximum" = u64::MAX))]
     pub seeds: u64,
 }
 

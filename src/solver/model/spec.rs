@@ -284,7 +284,8 @@ pub struct Trigger {
     #[serde(deserialize_with = "whole::<_, u64>")]
     #[schemars(
         title = "Trigger seed",
-        description = "Seed of the random choice of weak particles."
+        description = "Seed of the random choice of weak particles.",
+        extend("maximum" = u64::MAX)
     )]
     pub seed: u64,
 }
