@@ -264,3 +264,39 @@ fn an_error_bar_is_priced_unasked_only_where_it_costs_at_most_a_quarter_of_the_r
     let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
     assert_eq!(error_bar_cost_fraction(&linear), None);
 }
+
+/// The lateral example (t 3.2, d 22.2, l 76.2, 12.5 mm, uGIMP) in 3D at n = 4: 5 297.2 N; its
+/// plane-strain section at n = 4, 8, 12, 16: 5 323.1, 5 452.4, 5 489.1, 5 502.7 N (`crush run
+/// --error-bar`, two threads). The section settles at 5.489–5.503 kN from n = 12 to 24
+/// (docs/validation.md §8): the interval must hold that plateau, and its error range the run's
+/// error against it.
+#[test]
+fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {
+    let lateral = case(
+        r#"{"loading": {"mode": "lateral", "crush_distance_mm": 12.5},
+            "discretization": {"shape": "gimp"}}"#,
+    );
+    let run = summary(5_297.2, CollapseMode::Flattening);
+    let section = [(4, 5_323.1), (8, 5_452.4), (12, 5_489.1), (16, 5_502.7)];
+    let ks: Vec<u32> = ladder(&lateral, &run)
+        .unwrap()
+        .iter()
+        .map(|r| r.0)
+        .collect();
+    assert_eq!(ks, [4, 8, 12, 16]);
+    let l = ladder_of(from_rungs(
+        Model::PlaneStrain,
+        rungs(&section),
+        &run,
+        4,
+        true,
+    ));
+    assert!(l.low_n <= 5_489.0 && 5_503.0 <= l.high_n, "{l:?}");
+    for converged in [5_489.0, 5_503.0] {
+        let error = 5_297.2 / converged - 1.0;
+        assert!(
+            l.error_low <= error && error <= l.error_high.unwrap(),
+            "{l:?}"
+        );
+    }
+}
