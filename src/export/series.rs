@@ -6,7 +6,7 @@
 //! the top plate's travel (mm). The frames' files are `frames/{k}.vtu` beside the `.pvd`, the
 //! names the server serves them under.
 
-use super::vtu::{array, begin, displacement, end, named_array};
+use super::vtu::{array, begin, displacement, end, named_array, scalars};
 use crate::solver::Frame;
 use std::io::{self, Write};
 
@@ -130,15 +130,8 @@ pub fn write_frame_vtu(
     state: &FrameState,
     note: Option<&str>,
 ) -> io::Result<()> {
-    if initial_mm.len() != state.len() {
-        return Err(io::Error::other(format!(
-            "{} start positions for {} particles",
-            initial_mm.len(),
-            state.len()
-        )));
-    }
     let n = state.len();
-    begin(out, n, note)?;
+    begin(out, initial_mm.len(), n, note)?;
     displacement(out, initial_mm, &state.position_mm)?;
     scalars(out, "plastic_strain", &state.plastic_strain)?;
     let tensor = ["XX", "YY", "ZZ", "XY", "YZ", "XZ"];
@@ -173,14 +166,6 @@ pub fn write_frame_vtu(
     })?;
     scalars(out, "volume_mm3", &state.volume_mm3)?;
     end(out, &state.position_mm)
-}
-
-fn scalars(out: &mut impl Write, name: &str, values: &[f32]) -> io::Result<()> {
-    array(out, "Float32", Some(name), 1, values.len() * 4, |w| {
-        values
-            .iter()
-            .try_for_each(|v| w.write_all(&v.to_le_bytes()))
-    })
 }
 
 /// Where a series' frame stands: its index, top-plate travel (mm) and simulated time (ms).

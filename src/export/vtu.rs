@@ -87,28 +87,27 @@ pub fn write_vtu(
     state: &FinalState,
     note: Option<&str>,
 ) -> io::Result<()> {
-    if initial_mm.len() != state.len() {
-        return Err(io::Error::other(format!(
-            "{} start positions for {} particles",
-            initial_mm.len(),
-            state.len()
-        )));
-    }
     let n = state.len();
-    begin(out, n, note)?;
-    array(out, "Float32", Some("plastic_strain"), 1, n * 4, |w| {
-        for e in &state.plastic_strain {
-            w.write_all(&e.to_le_bytes())?;
-        }
-        Ok(())
-    })?;
+    begin(out, initial_mm.len(), n, note)?;
+    scalars(out, "plastic_strain", &state.plastic_strain)?;
     displacement(out, initial_mm, &state.position_mm)?;
     end(out, &state.position_mm)
 }
 
 /// The document up to its point data: the header, `note` as a comment, one piece of `n`
-/// points.
-pub(super) fn begin(out: &mut impl Write, n: usize, note: Option<&str>) -> io::Result<()> {
+/// points; an error, before anything is written, when there are not `n` start positions
+/// (`starts`) to measure the displacement from.
+pub(super) fn begin(
+    out: &mut impl Write,
+    starts: usize,
+    n: usize,
+    note: Option<&str>,
+) -> io::Result<()> {
+    if starts != n {
+        return Err(io::Error::other(format!(
+            "{starts} start positions for {n} particles"
+        )));
+    }
     write!(
         out,
         "<?xml version=\"1.0\"?>\n\
@@ -172,6 +171,15 @@ pub(super) fn end(out: &mut impl Write, position_mm: &[[f32; 3]]) -> io::Result<
         (0..n).try_for_each(|_| w.write_all(&[VTK_VERTEX]))
     })?;
     out.write_all(b"</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
+}
+
+/// One float per point, named.
+pub(super) fn scalars(out: &mut impl Write, name: &str, values: &[f32]) -> io::Result<()> {
+    array(out, "Float32", Some(name), 1, values.len() * 4, |w| {
+        values
+            .iter()
+            .try_for_each(|v| w.write_all(&v.to_le_bytes()))
+    })
 }
 
 /// One inline binary `DataArray`: base64 of the byte count (u64) then `bytes` bytes of values,

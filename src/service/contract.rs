@@ -58,17 +58,18 @@ pub fn schemas() -> Map<String, Value> {
     // The request side's reading of a shared type (the case, inside a job) wins.
     all.extend(requests.take_definitions(true));
     crate::solver::model::schema::fill_case_defaults(&mut all);
-    for schema in all.values_mut() {
-        plain_descriptions(schema);
-        no_true_schemas(schema);
-        no_null_defaults_of_non_null_types(schema);
-    }
+    all.values_mut().for_each(tidy);
     all
 }
 
-/// A `default: null` on a schema whose type has no null (an optional field read as a plain
-/// number, `#[serde(default)]` on an `Option`) would be a default the schema itself refuses.
-fn no_null_defaults_of_non_null_types(schema: &mut Value) {
+/// One pass over a generated schema for the people and tools that read the contract:
+/// - rustdoc's links in a description (``[`super::folds`]``) read as code (`` `folds` ``);
+/// - `true` (any value) where a schema object stands is written `{}`, which means the same:
+///   schemars writes a free JSON value as `true`, which `openapi-python-client` cannot read
+///   there (`additionalProperties: true` stays: that one is common);
+/// - a `default: null` on a type without null (`#[serde(default)]` on an `Option` read as a
+///   plain number) goes: the schema itself would refuse it.
+fn tidy(schema: &mut Value) {
     match schema {
         Value::Object(m) => {
             let nullable = match m.get("type") {
@@ -79,65 +80,29 @@ fn no_null_defaults_of_non_null_types(schema: &mut Value) {
             if !nullable && m.get("default") == Some(&Value::Null) {
                 m.remove("default");
             }
-            m.values_mut().for_each(no_null_defaults_of_non_null_types);
+            for (key, v) in m.iter_mut() {
+                match (key.as_str(), &mut *v) {
+                    ("description", Value::String(text)) => *text = unlink(text),
+                    ("items", any) => any_as_empty(any),
+                    ("properties" | "$defs", Value::Object(inner)) => {
+                        inner.values_mut().for_each(any_as_empty)
+                    }
+                    ("prefixItems" | "anyOf" | "oneOf" | "allOf", Value::Array(inner)) => {
+                        inner.iter_mut().for_each(any_as_empty)
+                    }
+                    _ => {}
+                }
+                tidy(v);
+            }
         }
-        Value::Array(a) => a.iter_mut().for_each(no_null_defaults_of_non_null_types),
+        Value::Array(a) => a.iter_mut().for_each(tidy),
         _ => {}
     }
 }
 
-/// `true` (any value) written as the empty schema `{}`, which means the same: schemars writes
-/// a free JSON value as `true`, which some OpenAPI tools cannot read where a schema object is
-/// expected (`openapi-python-client`). `additionalProperties: true` stays: that one is common.
-fn no_true_schemas(schema: &mut Value) {
-    match schema {
-        Value::Object(m) => {
-            for (key, v) in m.iter_mut() {
-                let holds_schemas = matches!(
-                    key.as_str(),
-                    "properties" | "prefixItems" | "anyOf" | "oneOf" | "allOf" | "$defs"
-                );
-                match v {
-                    Value::Bool(true) if key == "items" => *v = Value::Object(Map::new()),
-                    Value::Object(inner) if holds_schemas => {
-                        for s in inner.values_mut() {
-                            if *s == Value::Bool(true) {
-                                *s = Value::Object(Map::new());
-                            }
-                        }
-                        inner.values_mut().for_each(no_true_schemas);
-                    }
-                    Value::Array(inner) if holds_schemas => {
-                        for s in inner.iter_mut() {
-                            if *s == Value::Bool(true) {
-                                *s = Value::Object(Map::new());
-                            }
-                        }
-                        inner.iter_mut().for_each(no_true_schemas);
-                    }
-                    _ => no_true_schemas(v),
-                }
-            }
-        }
-        Value::Array(a) => a.iter_mut().for_each(no_true_schemas),
-        _ => {}
-    }
-}
-
-/// Rustdoc's links in a description (``[`super::folds`]``, ``[`Measures`]``) read as code
-/// (`` `folds` ``, `` `Measures` ``): the contract is read by people outside the code.
-fn plain_descriptions(schema: &mut Value) {
-    match schema {
-        Value::Object(m) => {
-            for (key, v) in m.iter_mut() {
-                match v {
-                    Value::String(text) if key == "description" => *text = unlink(text),
-                    _ => plain_descriptions(v),
-                }
-            }
-        }
-        Value::Array(a) => a.iter_mut().for_each(plain_descriptions),
-        _ => {}
+fn any_as_empty(schema: &mut Value) {
+    if *schema == Value::Bool(true) {
+        *schema = Value::Object(Map::new());
     }
 }
 
