@@ -99,9 +99,34 @@ function showProblem(data) {
   return shown;
 }
 
+/// The fields that belong to one cross-section only; the others' rows are hidden and not sent.
+const SECTION_ONLY = {
+  "tube.mean_diameter_mm": "round",
+  "tube.side_a_mm": "rectangular",
+  "tube.side_b_mm": "rectangular",
+  "tube.corner_radius_mm": "rectangular",
+};
+
+/// Whether field `f` applies to the section the form names.
+function applies(f) {
+  const only = SECTION_ONLY[f.field];
+  if (!only) return true;
+  const section = document.getElementById(fieldId("tube.section"));
+  return ((section && section.value) || "round") === only;
+}
+
+/// Shows the rows of the named section's fields and hides the others'.
+function showSection() {
+  for (const f of FIELDS) {
+    const row = document.querySelector(`.field[data-row="${f.field}"]`);
+    if (row) row.hidden = !applies(f);
+  }
+}
+
 function readCase() {
   const c = {};
   for (const f of FIELDS) {
+    if (!applies(f)) continue;
     const input = document.getElementById(fieldId(f.field));
     let v;
     if (f.kind === "boolean") v = input.checked;
@@ -120,7 +145,7 @@ function checkAll() {
   let first = null;
   for (const f of FIELDS) {
     const input = document.getElementById(fieldId(f.field));
-    const message = clientCheck(f, input);
+    const message = applies(f) ? clientCheck(f, input) : "";
     const err = document.querySelector(`.field[data-row="${f.field}"] .err`);
     if (message) showFieldError(f.field, message, "client");
     else if (err.dataset.source === "client") showFieldError(f.field, "", "");
@@ -316,10 +341,13 @@ export async function renderForm(main, fromJob) {
       const message = clientCheck(f, e.target);
       showFieldError(f.field, message, message ? "client" : "");
     }
+    if (name === "tube.section") showSection();
     scheduleEstimate();
   });
+  form.addEventListener("change", (e) => { if (e.target.dataset.field === "tube.section") showSection(); });
   form.addEventListener("submit", submitForm);
   if (fromJob) await fillFromJob(fromJob);
+  showSection();
   scheduleEstimate();
 }
 

@@ -78,8 +78,19 @@ function referenceTable(s, lateral) {
       el("td", { class: "num" }, value > 0 ? kN(value) : "–"),
       el("td", { class: "num ratio " + cls }, ratio === null ? "–" : ratio.toFixed(2)));
   };
+  // A rectangular tube's own closed forms (axial only; none covers a lateral crush).
+  const rectangular = r.wierzbicki_abramowicz_n !== undefined;
+  const rows = rectangular
+    ? (lateral
+      ? [el("tr", {}, el("td", { colspan: "3" }, "no closed form covers a rectangular tube crushed laterally"))]
+      : [
+        row("Abramowicz & Jones (1984), effective crushing distance" +
+          (r.abramowicz_jones_dynamic_n ? `, × ${r.rate_factor.toFixed(2)} for the strain rate` : ""), r.primary_n, true),
+        row("Wierzbicki & Abramowicz (1983), superfolding element", r.wierzbicki_abramowicz_n, false),
+        row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
+      ])
   // Only the references of this loading: a lateral formula says nothing of an axial run.
-  const rows = lateral
+    : lateral
     ? [
       row("DeRuntz & Hodge (1963), mean over the crush", r.deruntz_hodge_mean_n || 0, true),
       row("DeRuntz & Hodge (1963), at first contact", r.deruntz_hodge_initial_n, false),
@@ -115,7 +126,11 @@ function caseTable(c, summary) {
     return f ? f.default : undefined;
   };
   const rows = [
-    ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
+    value("tube.section") === "rectangular"
+      ? ["Tube t × a × b × l, corner r", `${value("tube.thickness_mm")} × ${value("tube.side_a_mm")} × ` +
+        `${value("tube.side_b_mm") ?? value("tube.side_a_mm")} × ${value("tube.length_mm")} mm, ` +
+        `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`]
+      : ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
     ["Material", `E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, σy ${value("material.yield_stress_mpa")} MPa`],
     ["Loading", `${value("loading.mode")}, ${value("loading.plate_speed_m_s")} m/s, ` +
       (value("loading.crush_distance_mm") === null || value("loading.crush_distance_mm") === undefined ? "default distance" : `${value("loading.crush_distance_mm")} mm`)],

@@ -3,8 +3,9 @@
 
 use crate::solver::analysis::error_bar::ErrorBar;
 use crate::solver::analysis::mode::ModeDetail;
+use crate::solver::analysis::reference::{RectangularReferences, References, RoundReferences};
 use crate::solver::analysis::summary::UNLOADED_FRACTION;
-use crate::solver::model::case::LoadingMode;
+use crate::solver::model::case::{CrossSection, LoadingMode};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
 
@@ -22,13 +23,20 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     if let Some(label) = &spec.label {
         let _ = writeln!(o, "{label}");
     }
+    let section = match case.geometry().section {
+        CrossSection::Round {
+            thickness_mm,
+            mean_diameter_mm,
+        } => format!("t {thickness_mm} mm, d {mean_diameter_mm} mm"),
+        CrossSection::Rectangular(r) => format!(
+            "t {} mm, {} x {} mm, corner r {} mm",
+            r.thickness_mm, r.side_a_mm, r.side_b_mm, r.corner_radius_mm
+        ),
+    };
     let _ = writeln!(
         o,
-        "tube t {} mm, d {} mm, l {} mm; {loading} crush at {} m/s",
-        spec.tube.thickness_mm,
-        spec.tube.mean_diameter_mm,
-        spec.tube.length_mm,
-        spec.loading.plate_speed_m_s
+        "tube {section}, l {} mm; {loading} crush at {} m/s",
+        spec.tube.length_mm, spec.loading.plate_speed_m_s
     );
     let shape = case.shape_choice();
     let _ = writeln!(
@@ -53,9 +61,9 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         o,
         "  mean load        {}   ({} x {} {})",
         kn(s.mean_load_n),
-        ratio(s.mean_load_n, r.primary_n),
-        r.primary.name(),
-        kn(r.primary_n)
+        ratio(s.mean_load_n, r.primary_n()),
+        r.primary().name(),
+        kn(r.primary_n())
     );
     match &s.error_bar {
         Some(ErrorBar::ReducedLadder(l)) => {
@@ -133,6 +141,14 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     );
     let _ = writeln!(o, "  mode             {}", mode_name(s.mode));
     let _ = writeln!(o, "                   {}", detail.reason);
+    if let Some(f) = detail.faces {
+        let _ = writeln!(
+            o,
+            "                   folded slices by their faces: {} symmetric, {} asymmetric, \
+             {} extensional",
+            f.symmetric, f.asymmetric, f.extensional
+        );
+    }
     let amps: Vec<String> = detail
         .harmonic_amplitude_mm
         .iter()
@@ -190,58 +206,32 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         o,
         "references                             load          mean / reference"
     );
-    let line = |o: &mut String, name: &str, load: Option<f64>| {
+    let mut line = |name: &str, load: Option<f64>| {
         let load_text = load.map_or_else(|| "n/a".to_string(), kn);
         let ratio_text = load.map_or_else(|| "".to_string(), |p| ratio(s.mean_load_n, p));
         let _ = writeln!(o, "  {name:<36} {load_text:>11}   {ratio_text}");
     };
-    line(&mut o, "Alexander ring", Some(r.alexander_ring_n));
-    for d in &r.diamond {
-        line(
-            &mut o,
-            &format!("JSA diamond n={} stationary hinge", d.lobes),
-            Some(d.stationary_n),
-        );
-        line(
-            &mut o,
-            &format!("JSA diamond n={} travelling hinge", d.lobes),
-            Some(d.travelling_n),
+    match r {
+        References::Round(r) => round_lines(r, &mut line),
+        References::Rectangular(r) => rectangular_lines(r, &mut line),
+    }
+    if let References::Rectangular(r) = r {
+        let _ = writeln!(
+            o,
+            "  a fold takes 2H = {:.1} mm of tube and {:.1} mm of crush (Wierzbicki-Abramowicz, \
+             Abramowicz-Jones)",
+            2.0 * r.half_fold_length_mm,
+            r.effective_crush_per_fold_mm
         );
     }
-    line(
-        &mut o,
-        "DeRuntz-Hodge lateral, no deflection",
-        Some(r.deruntz_hodge_initial_n),
-    );
-    line(
-        &mut o,
-        "DeRuntz-Hodge lateral, mean over U",
-        r.deruntz_hodge_mean_n,
-    );
-    line(&mut o, "Euler, clamped ends", Some(r.euler_clamped_n));
-    let m = &r.metal;
-    line(
-        &mut o,
-        "Abramowicz-Jones, static",
-        Some(m.abramowicz_jones_n),
-    );
-    line(
-        &mut o,
-        "Abramowicz-Jones, dynamic",
-        m.abramowicz_jones_dynamic_n,
-    );
-    let fit = if m.guillow_in_range {
-        "Guillow 6060-T5 fit, static"
-    } else {
-        "Guillow fit (d/t outside 10-450)"
-    };
-    line(&mut o, fit, Some(m.guillow_n));
-    line(&mut o, "Guillow 6060-T5 fit, dynamic", m.guillow_dynamic_n);
-    let _ = writeln!(
-        o,
-        "  (metal forms: flow stress {:.1} MPa, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
-        m.flow_stress_mpa, m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
-    );
+    if let References::Round(r) = r {
+        let m = &r.metal;
+        let _ = writeln!(
+            o,
+            "  (metal forms: flow stress {:.1} MPa, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
+            m.flow_stress_mpa, m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
+        );
+    }
     let _ = writeln!(o);
     let _ = writeln!(
         o,
@@ -257,6 +247,51 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         c.wall_time_s, c.particle_steps_per_s, c.threads
     );
     o
+}
+
+/// A round tube's references, one `line(name, load)` each.
+fn round_lines(r: &RoundReferences, line: &mut impl FnMut(&str, Option<f64>)) {
+    line("Alexander ring", Some(r.alexander_ring_n));
+    for d in &r.diamond {
+        line(
+            &format!("JSA diamond n={} stationary hinge", d.lobes),
+            Some(d.stationary_n),
+        );
+        line(
+            &format!("JSA diamond n={} travelling hinge", d.lobes),
+            Some(d.travelling_n),
+        );
+    }
+    line(
+        "DeRuntz-Hodge lateral, no deflection",
+        Some(r.deruntz_hodge_initial_n),
+    );
+    line("DeRuntz-Hodge lateral, mean over U", r.deruntz_hodge_mean_n);
+    line("Euler, clamped ends", Some(r.euler_clamped_n));
+    let m = &r.metal;
+    line("Abramowicz-Jones, static", Some(m.abramowicz_jones_n));
+    line("Abramowicz-Jones, dynamic", m.abramowicz_jones_dynamic_n);
+    let fit = if m.guillow_in_range {
+        "Guillow 6060-T5 fit, static"
+    } else {
+        "Guillow fit (d/t outside 10-450)"
+    };
+    line(fit, Some(m.guillow_n));
+    line("Guillow 6060-T5 fit, dynamic", m.guillow_dynamic_n);
+}
+
+/// A rectangular tube's references, one `line(name, load)` each.
+fn rectangular_lines(r: &RectangularReferences, line: &mut impl FnMut(&str, Option<f64>)) {
+    line("Wierzbicki-Abramowicz", Some(r.wierzbicki_abramowicz_n));
+    line("Abramowicz-Jones, static", Some(r.abramowicz_jones_n));
+    line(
+        &format!(
+            "Abramowicz-Jones, x{:.3} at {:.0}/s",
+            r.rate_factor, r.strain_rate_per_s
+        ),
+        r.abramowicz_jones_dynamic_n,
+    );
+    line("Euler, clamped ends", Some(r.euler_clamped_n));
 }
 
 /// Every reason a case was rejected, one per line.
@@ -287,6 +322,9 @@ pub fn mode_name(mode: CollapseMode) -> String {
         CollapseMode::GlobalBuckling => "global (Euler) buckling".into(),
         CollapseMode::Flattening => "lateral flattening".into(),
         CollapseMode::TippedOver => "tipped over between the plates".into(),
+        CollapseMode::Symmetric => "symmetric (square tube)".into(),
+        CollapseMode::AsymmetricMixed => "asymmetric mixed (square tube)".into(),
+        CollapseMode::Extensional => "extensional (square tube)".into(),
     }
 }
 

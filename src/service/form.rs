@@ -248,6 +248,17 @@ mod tests {
         if field == "discretization.model" && value == "plane_strain" {
             spec["loading"]["mode"] = "lateral".into();
         }
+        // A rectangular section's lengths, tried on a rectangular tube (which has no diameter).
+        let rectangular = matches!(
+            field,
+            "tube.side_a_mm" | "tube.side_b_mm" | "tube.corner_radius_mm"
+        ) || (field == "tube.section" && value == "rectangular");
+        if rectangular {
+            let tube = spec["tube"].as_object_mut().unwrap();
+            tube.remove("mean_diameter_mm");
+            tube.insert("section".into(), "rectangular".into());
+            tube.insert("side_a_mm".into(), 30.0.into());
+        }
         // A law's constants, tried with the law that reads them (and its other constants).
         let material = &mut spec["material"];
         let law = match field.strip_prefix("material.") {
@@ -337,6 +348,9 @@ mod tests {
             optional,
             [
                 "label",
+                "tube.side_a_mm",
+                "tube.side_b_mm",
+                "tube.corner_radius_mm",
                 "material.preset",
                 "material.hardening",
                 "material.hardening_curve",
@@ -433,7 +447,8 @@ mod tests {
         assert_eq!(field("material.density_kg_m3").unit, "kg/m³");
         // In the types' order, the case's sections as the page groups them.
         assert_eq!(all[0].field, "label");
-        assert_eq!(all[1].field, "tube.thickness_mm");
+        assert_eq!(all[1].field, "tube.section");
+        assert_eq!(field("tube.section").choices, ["round", "rectangular"]);
         assert_eq!(all.last().unwrap().field, "output.frames");
     }
 

@@ -38,7 +38,7 @@ impl RunPoint {
             wall_time_s: s.cost.wall_time_s,
             mean_load_n: s.mean_load_n,
             peak_load_n: s.peak_load_n,
-            reference_n: s.references.primary_n,
+            reference_n: s.references.primary_n(),
         }
     }
 }

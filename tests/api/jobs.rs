@@ -648,3 +648,71 @@ async fn an_ensemble_over_three_seeds_gives_the_distribution_of_its_runs() {
     let all = get_json(&app.client, &app.at("/v1/jobs")).await;
     assert_eq!(all["jobs"].as_array().unwrap().len(), 3);
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_square_tube_runs_and_reports_its_own_closed_forms_mass_and_mode() {
+    let app = TestApp::start(&[]).await;
+    // Missing its side, and with a round tube's diameter: both named.
+    let r = app
+        .post_json(
+            "/v1/jobs",
+            &json!({"tube": {"section": "rectangular", "mean_diameter_mm": 20}}),
+        )
+        .await;
+    assert_eq!(r.status(), 422);
+    let problem: Value = r.json().await.unwrap();
+    let fields: HashSet<&str> = problem["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["field"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        fields,
+        HashSet::from(["tube.side_a_mm", "tube.mean_diameter_mm"]),
+        "{problem}"
+    );
+
+    let case = json!({
+        "tube": {"section": "rectangular", "thickness_mm": 2, "side_a_mm": 12,
+                 "corner_radius_mm": 2, "length_mm": 6},
+        "discretization": {"particles_through_thickness": 1},
+        "loading": {"crush_distance_mm": 1, "plate_speed_m_s": 20},
+        "output": {"history_points": 20}
+    });
+    let job = app.submit(&case).await;
+    let id = job["id"].as_str().unwrap();
+    let job = app
+        .wait_for(id, &["succeeded", "failed"], Duration::from_secs(60))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(job["case"], case);
+    let s = &job["summary"];
+    // Abramowicz & Jones's square tube is the primary reference, by hand:
+    // 13.06 σ₀ t^(5/3) c^(1/3) = 13.06 · 65.5 · 2^(5/3) · 12^(1/3) = 6 213 N.
+    let r = &s["references"];
+    assert_eq!(r["primary"], "abramowicz_jones");
+    let want = 13.06 * 65.5 * 2f64.powf(5.0 / 3.0) * 12f64.cbrt();
+    assert!(
+        (r["primary_n"].as_f64().unwrap() / want - 1.0).abs() < 1e-9,
+        "{r}"
+    );
+    assert!(r.get("alexander_ring_n").is_none(), "{r}");
+    // The mass is ρ t P l with the mid-line's P = 4 (a − 2r) + 2π r.
+    let perimeter = 4.0 * (12.0 - 4.0) + 2.0 * std::f64::consts::PI * 2.0;
+    let mass = 1380.0 * 2.0 * perimeter * 6.0 * 1e-6;
+    let got = s["tube_mass_g"].as_f64().unwrap();
+    assert!((got / mass - 1.0).abs() < 1e-9, "{got} g vs {mass} g");
+    let kind = s["mode"]["kind"].as_str().unwrap();
+    assert!(
+        [
+            "symmetric",
+            "asymmetric_mixed",
+            "extensional",
+            "global_buckling",
+            "tipped_over"
+        ]
+        .contains(&kind),
+        "{kind}"
+    );
+}

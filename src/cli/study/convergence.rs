@@ -77,6 +77,7 @@ fn mode_name(m: &CollapseMode) -> String {
         CollapseMode::GlobalBuckling => "global".into(),
         CollapseMode::Flattening => "flattening".into(),
         CollapseMode::TippedOver => "tipped over".into(),
+        other => other.kind().replace('_', " "),
     }
 }
 

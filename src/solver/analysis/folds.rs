@@ -23,9 +23,17 @@
 //! and not the whole ring: a slice's reach over all angles stays out wherever any lobe of an
 //! inclined diamond hinge is, and the same runs then read 5 and 6.
 //!
+//! A rectangular tube folds face by face: in a layer of lobes two opposite faces go out and the
+//! other two in (or all four out), and the next layer turns them over, so a face line shows
+//! every layer as a lobe, out or in. Its folds are counted along the middle of each face
+//! ([`super::faces`]): the bumps of the face's outward or inward displacement, with the same
+//! rise, fall and reach as a round tube's; the tube's count is the lower median over its four
+//! faces.
+//!
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
 
+use super::faces::face_slices;
 use super::peaks::Peaks;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
@@ -60,6 +68,9 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         let line = section_line(snapshot, case.spacing_mm(), section.outer_mm());
         return count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t);
     }
+    if let CrossSection::Rectangular(_) = section {
+        return face_folds(snapshot, case.spacing_mm(), &section);
+    }
     let lines = wall_lines(snapshot, case.spacing_mm(), &section);
     let count = |line: &Vec<Real>| match line.is_empty() {
         true => None,
@@ -80,6 +91,25 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         .get(sections.len().saturating_sub(1) / 2)
         .copied()
         .unwrap_or(0)
+}
+
+/// The folds of a rectangular tube along the middles of its faces, slices `h` thick: the lower
+/// median over the faces of the bumps of each face's displacement, out or in.
+fn face_folds(snapshot: &Snapshot, h: Real, section: &CrossSection) -> u32 {
+    let t = section.thickness_mm();
+    let slices = face_slices(snapshot, section, [2, 0, 1], h);
+    let mut faces: Vec<u32> = (0..4)
+        .map(|f| {
+            let line: Vec<Real> = slices
+                .iter()
+                .filter_map(|s| s.w[f])
+                .map(Real::abs)
+                .collect();
+            count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t)
+        })
+        .collect();
+    faces.sort_unstable();
+    faces[1]
 }
 
 /// Per sector of the material angle, per material slice of width `h` along z (bottom to top,
@@ -294,6 +324,33 @@ mod tests {
             ..snap
         };
         assert_eq!(count_folds(&case(), &moved), 3);
+    }
+
+    /// Symmetric layers of a square tube, each `layer` mm of wall: two opposite faces out and
+    /// the other two in, turned over from one layer to the next.
+    fn symmetric(z: Real, face: usize, layer: Real, amplitude: Real) -> Real {
+        let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+        sign * amplitude * (PI * z / layer).sin()
+    }
+
+    #[test]
+    fn a_square_tubes_folds_are_its_layers_out_or_in() {
+        use crate::solver::analysis::faces::tests::{deformed, square_case};
+        let case = square_case();
+        // Four layers of 15 mm over the 60 mm tube, lobes of 6 mm (4 t).
+        let snap = deformed(&case, |z, f| symmetric(z, f, 15.0, 6.0), |_| [0.0; 2]);
+        assert_eq!(count_folds(&case, &snap), 4);
+        // All faces out together (extensional) over 0–20 and 40–60 mm, the wall between
+        // unmoved, the tube leaning sideways.
+        let out = deformed(
+            &case,
+            |z, _| 6.0 * (PI * z / 20.0).sin().max(0.0),
+            |z| [0.2 * z, 0.0],
+        );
+        assert_eq!(count_folds(&case, &out), 2);
+        // Lobes of 1 mm (0.67 t) are ripples, not folds.
+        let ripples = deformed(&case, |z, f| symmetric(z, f, 15.0, 1.0), |_| [0.0; 2]);
+        assert_eq!(count_folds(&case, &ripples), 0);
     }
 
     #[test]

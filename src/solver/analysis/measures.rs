@@ -5,10 +5,10 @@
 
 use super::summary::{load_drops, running_energy, EnergyBooks};
 use crate::solver::engine::history::HistoryRow;
+use crate::solver::model::case::CrossSection;
 use crate::solver::model::spec::CaseSpec;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 
 /// The crash measures of a run (in the summary beside its mean and peak loads).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
@@ -64,10 +64,12 @@ impl Measures {
     }
 }
 
-/// ρ π d t l, g (ρ in kg/m³ and the volume in mm³: 1 kg/m³ · 1 mm³ = 1e-6 g).
+/// ρ A l, g, with the wall's cross-section area A (π d t for a round tube, t times the
+/// mid-line's length for a rectangular one; ρ in kg/m³ and the volume in mm³:
+/// 1 kg/m³ · 1 mm³ = 1e-6 g).
 pub fn tube_mass_g(spec: &CaseSpec) -> f64 {
-    let t = &spec.tube;
-    spec.material.density_kg_m3 * PI * t.mean_diameter_mm * t.thickness_mm * t.length_mm * 1e-6
+    let area_mm2 = CrossSection::of(&spec.tube).area_mm2();
+    spec.material.density_kg_m3 * area_mm2 * spec.tube.length_mm * 1e-6
 }
 
 /// The first collapse peak: its row and load. The load is read through the running median

@@ -44,7 +44,14 @@
 //! lobes of the folds). If no slice is folded, every slice is used (a tube that did not fold
 //! reads as ring, and the detail says so). Lateral loading is always
 //! [`CollapseMode::Flattening`]; its detail is computed the same way about the x axis.
+//!
+//! A rectangular tube's harmonics are those of its wall-line angle (its perimeter), and its
+//! drift is judged against its larger side; once it has not bent over as a whole, its mode is
+//! read from how its faces fold ([`rectangular`]): symmetric, asymmetric mixed or extensional.
 
+mod rectangular;
+
+use super::faces::face_slices;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
@@ -67,6 +74,14 @@ pub enum CollapseMode {
     /// straight, and an end left its plate (it stands on the edge of its ring, or the tube lies
     /// on its side).
     TippedOver,
+    /// A rectangular tube's layers of lobes each fold two opposite faces out and the other two
+    /// in (Wierzbicki & Abramowicz's symmetric mode).
+    Symmetric,
+    /// A rectangular tube's layers fold three faces out and one in, or the like, among
+    /// symmetric ones (Abramowicz & Jones's asymmetric mixed modes).
+    AsymmetricMixed,
+    /// A rectangular tube's faces fold out together (the extensional mode of thick walls).
+    Extensional,
 }
 
 impl CollapseMode {
@@ -79,6 +94,9 @@ impl CollapseMode {
             CollapseMode::GlobalBuckling => "global_buckling",
             CollapseMode::Flattening => "flattening",
             CollapseMode::TippedOver => "tipped_over",
+            CollapseMode::Symmetric => "symmetric",
+            CollapseMode::AsymmetricMixed => "asymmetric_mixed",
+            CollapseMode::Extensional => "extensional",
         }
     }
 }
@@ -133,6 +151,20 @@ pub struct ModeDetail {
     pub end_lift_threshold_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
+    /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub faces: Option<FaceLayers>,
+}
+
+/// A rectangular tube's folded slices, by what their faces show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+pub struct FaceLayers {
+    /// Opposite faces alike, neighbours unlike.
+    pub symmetric: u32,
+    /// Any other pattern but all four alike.
+    pub asymmetric: u32,
+    /// All four faces out (or in) together.
+    pub extensional: u32,
 }
 
 /// Per-slice accumulators.
@@ -236,9 +268,14 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         detail.reason = "lateral loading: the tube is flattened across a diameter".into();
         return (CollapseMode::Flattening, detail);
     }
+    let rectangular = matches!(section, CrossSection::Rectangular(_));
     if slices.is_empty() {
-        detail.reason = "no particles to analyse; reported as ring".into();
-        return (CollapseMode::Ring, detail);
+        let (mode, name) = match rectangular {
+            true => (CollapseMode::Symmetric, "symmetric"),
+            false => (CollapseMode::Ring, "ring"),
+        };
+        detail.reason = format!("no particles to analyse; reported as {name}");
+        return (mode, detail);
     }
     let max_fold = slices
         .iter()
@@ -271,6 +308,13 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             true => CollapseMode::TippedOver,
             false => CollapseMode::GlobalBuckling,
         };
+        return (mode, detail);
+    }
+    if rectangular {
+        let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
+        let (mode, counts, reason) = rectangular::decide(&faces, t);
+        detail.faces = Some(counts);
+        detail.reason = reason;
         return (mode, detail);
     }
     let amp = &detail.harmonic_amplitude_mm;

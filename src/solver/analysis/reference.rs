@@ -9,6 +9,13 @@
 //! for 6060-T5, each static and with the rate law's factor at the wall's mean strain rate V/(4R)
 //! where the material names a rate law. Both take the flow stress σ0 to be the case's yield
 //! stress σy (the static flow stress at zero plastic strain).
+//!
+//! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
+//! Jones).
+
+pub mod rectangular;
+
+pub use rectangular::RectangularReferences;
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
 use schemars::JsonSchema;
@@ -27,6 +34,11 @@ pub enum Primary {
     AlexanderRing,
     /// Lateral loading: DeRuntz & Hodge's load averaged over the crush.
     DeruntzHodgeMean,
+    /// Axial loading of a rectangular tube: Abramowicz & Jones's mean load over the effective
+    /// crushing distance, with the rate law's factor where the material names one.
+    AbramowiczJones,
+    /// A loading no closed form here covers (a rectangular tube crushed laterally).
+    Unavailable,
 }
 
 impl Primary {
@@ -35,6 +47,8 @@ impl Primary {
         match self {
             Primary::AlexanderRing => "Alexander ring",
             Primary::DeruntzHodgeMean => "DeRuntz-Hodge mean",
+            Primary::AbramowiczJones => "Abramowicz-Jones",
+            Primary::Unavailable => "no closed form",
         }
     }
 }
@@ -53,9 +67,41 @@ pub struct DiamondReference {
     pub travelling_n: f64,
 }
 
-/// The closed-form loads for one case.
+/// The closed forms of a case's cross-section. Each serializes as its own fields alone.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum References {
+    Round(RoundReferences),
+    Rectangular(RectangularReferences),
+}
+
+impl Default for References {
+    fn default() -> Self {
+        References::Round(RoundReferences::default())
+    }
+}
+
+impl References {
+    /// The reference a report compares the run's mean load with.
+    pub fn primary(&self) -> Primary {
+        match self {
+            References::Round(r) => r.primary,
+            References::Rectangular(r) => r.primary,
+        }
+    }
+
+    /// Value of [`References::primary`], N (0 if it does not exist).
+    pub fn primary_n(&self) -> f64 {
+        match self {
+            References::Round(r) => r.primary_n,
+            References::Rectangular(r) => r.primary_n,
+        }
+    }
+}
+
+/// The closed-form loads of a round tube.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
-pub struct References {
+pub struct RoundReferences {
     /// Alexander (1960) ring-mode mean load P̄ = π t σy √(2π t d / √3), N.
     pub alexander_ring_n: f64,
     /// Johnson, Soden & Al-Hassani (1977) diamond mode, n = 2..=5.
@@ -75,17 +121,22 @@ pub struct References {
     pub primary_n: f64,
 }
 
-/// Every reference load for `case`: the closed forms of a round tube, from its cross-section.
+/// Every reference load for `case`, from its cross-section.
 pub fn references(case: &Case) -> References {
-    let spec = case.spec();
-    let geometry = case.geometry();
-    let l = geometry.length_mm;
-    let (t, d) = match geometry.section {
+    match case.geometry().section {
         CrossSection::Round {
             thickness_mm,
             mean_diameter_mm,
-        } => (thickness_mm, mean_diameter_mm),
-    };
+        } => References::Round(round(case, thickness_mm, mean_diameter_mm)),
+        CrossSection::Rectangular(r) => References::Rectangular(rectangular::references(case, &r)),
+    }
+}
+
+/// The closed forms of a round tube of wall t and mean diameter d.
+fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
+    let spec = case.spec();
+    let geometry = case.geometry();
+    let l = geometry.length_mm;
     let (sy, e) = (
         spec.material.yield_stress_mpa,
         spec.material.youngs_modulus_mpa,
@@ -115,7 +166,7 @@ pub fn references(case: &Case) -> References {
             deruntz_hodge_mean_n.unwrap_or(0.0),
         ),
     };
-    References {
+    RoundReferences {
         alexander_ring_n,
         diamond,
         deruntz_hodge_initial_n,
@@ -336,7 +387,7 @@ mod tests {
             &Limits::default(),
         )
         .unwrap();
-        let m = references(&steel).metal;
+        let m = round_of(&steel).metal;
         close(m.rate_factor, 2.198_736, 1e-6);
         close(
             m.abramowicz_jones_dynamic_n.unwrap(),
@@ -345,7 +396,7 @@ mod tests {
         );
         assert!(m.guillow_in_range);
         // No rate law: no dynamic value, a factor of 1.
-        let pvc = references(&Case::from_json("{}", &Limits::default()).unwrap()).metal;
+        let pvc = round_of(&Case::from_json("{}", &Limits::default()).unwrap()).metal;
         assert_eq!(
             (pvc.abramowicz_jones_dynamic_n, pvc.rate_factor),
             (None, 1.0)
@@ -353,10 +404,18 @@ mod tests {
         assert!(!pvc.guillow_in_range, "d/t 6.9");
     }
 
+    /// A round case's references.
+    fn round_of(case: &Case) -> RoundReferences {
+        match references(case) {
+            References::Round(r) => r,
+            other => panic!("a round case has round references, not {other:?}"),
+        }
+    }
+
     #[test]
     fn primary_follows_the_loading() {
         let axial = Case::from_json("{}", &Limits::default()).unwrap();
-        let r = references(&axial);
+        let r = round_of(&axial);
         assert_eq!(r.primary, Primary::AlexanderRing);
         assert_eq!(r.primary_n, r.alexander_ring_n);
         assert_eq!(
@@ -368,7 +427,7 @@ mod tests {
 
         let lateral =
             Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
-        let r = references(&lateral);
+        let r = round_of(&lateral);
         assert_eq!(r.primary, Primary::DeruntzHodgeMean);
         close(r.primary_n, 6_401.8, 1e-4);
     }

@@ -3,7 +3,7 @@
 //! defaults resolved (the crush, the ramp, the shape functions: [`super::policy`]) and its
 //! geometry ([`super::geometry`]). The rest of the solver trusts it.
 
-pub use super::geometry::{CrossSection, Geometry};
+pub use super::geometry::{CrossSection, Geometry, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
 pub use super::policy::{ShapeChoice, LINEAR_FROM_D_OVER_T};
 pub use super::spec::*;
@@ -60,7 +60,7 @@ impl Case {
                         kind,
                         default_reason: None,
                     },
-                    None => ShapeKind::default_for(&spec.tube, spec.discretization.model),
+                    None => ShapeKind::default_for(&geometry.section, spec.discretization.model),
                 },
                 geometry,
                 spec,

@@ -4,7 +4,7 @@
 use super::checks::Checker;
 use super::geometry::Geometry;
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
-use super::spec::{wave_speed_m_s, CaseSpec};
+use super::spec::{wave_speed_m_s, CaseSpec, Section};
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
 /// least one per history row.
@@ -25,13 +25,36 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     }
 }
 
-/// Fields that set the particle count.
+/// Fields that set the particle count of a round tube.
 pub(super) const PARTICLE_FIELDS: &[&str] = &[
     "tube.thickness_mm",
     "tube.mean_diameter_mm",
     "tube.length_mm",
     "discretization.particles_through_thickness",
 ];
+
+/// Fields that set the particle count of a rectangular tube.
+pub(super) const RECTANGULAR_PARTICLE_FIELDS: &[&str] = &[
+    "tube.thickness_mm",
+    "tube.side_a_mm",
+    "tube.side_b_mm",
+    "tube.length_mm",
+    "discretization.particles_through_thickness",
+];
+
+/// The fields that set a section's particle count, and how the count grows with them.
+fn particle_fields(section: Section) -> (&'static [&'static str], &'static str) {
+    match section {
+        Section::Round => (
+            PARTICLE_FIELDS,
+            "mean_diameter_mm · length_mm · n² / thickness_mm²",
+        ),
+        Section::Rectangular => (
+            RECTANGULAR_PARTICLE_FIELDS,
+            "(side_a_mm + side_b_mm) · length_mm · n² / thickness_mm²",
+        ),
+    }
+}
 
 /// Fields that set the step count: the duration crush / v over Δt = α · k · t / n / (c + v),
 /// with the wave speed c from E, ν and ρ.
@@ -69,15 +92,16 @@ impl Checker {
         limits: &Limits,
     ) -> (Option<u64>, Option<u64>) {
         let max_particles = limits.max_particles.min(PARTICLE_ID_LIMIT);
+        let (particle_fields, grows) = particle_fields(spec.tube.section);
         let particles = geometry.count_f64();
         let particles = if particles.is_finite() && particles <= max_particles as f64 {
             Some(geometry.count())
         } else {
             self.fail_all(
-                PARTICLE_FIELDS,
+                particle_fields,
                 &format!(
                     "gives {} particles, more than this runner's limit of {max_particles} \
-                     (the count grows as mean_diameter_mm · length_mm · n² / thickness_mm²)",
+                     (the count grows as {grows})",
                     count(particles)
                 ),
             );
@@ -102,8 +126,8 @@ impl Checker {
         if let (Some(p), Some(s)) = (particles, steps) {
             let work = p as f64 * s as f64;
             if work > limits.max_particle_steps as f64 {
-                let mut fields: Vec<&str> = PARTICLE_FIELDS.to_vec();
-                fields.extend(STEP_FIELDS.iter().filter(|f| !PARTICLE_FIELDS.contains(f)));
+                let mut fields: Vec<&str> = particle_fields.to_vec();
+                fields.extend(STEP_FIELDS.iter().filter(|f| !particle_fields.contains(f)));
                 self.fail_all(
                     &fields,
                     &format!(

@@ -12,7 +12,12 @@
 //! strain, x and z are the cross-section's y and z, each particle standing for the tube's length
 //! (volume area·l).
 
+mod rectangle;
+
+pub use rectangle::Rectangle;
+
 use super::case::{CaseSpec, LoadingMode, Model};
+use super::spec::{Section, Tube, DEFAULT_MEAN_DIAMETER_MM};
 use crate::solver::Real;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -25,51 +30,140 @@ pub enum CrossSection {
         thickness_mm: Real,
         mean_diameter_mm: Real,
     },
+    /// A rectangular tube with rounded corners ([`Rectangle`]).
+    Rectangular(Rectangle),
 }
 
 impl CrossSection {
+    /// The cross-section a tube's spec describes, its omitted lengths filled in: a round
+    /// tube's diameter, a rectangular one's side b (= a) and corner radius (= t). A length
+    /// that is required and missing reads NaN: the checks name it.
+    pub fn of(tube: &Tube) -> CrossSection {
+        let t = tube.thickness_mm;
+        match tube.section {
+            Section::Round => CrossSection::Round {
+                thickness_mm: t,
+                mean_diameter_mm: tube.mean_diameter_mm.unwrap_or(DEFAULT_MEAN_DIAMETER_MM),
+            },
+            Section::Rectangular => {
+                let a = tube.side_a_mm.unwrap_or(Real::NAN);
+                CrossSection::Rectangular(Rectangle {
+                    thickness_mm: t,
+                    side_a_mm: a,
+                    side_b_mm: tube.side_b_mm.unwrap_or(a),
+                    corner_radius_mm: tube.corner_radius_mm.unwrap_or(t),
+                })
+            }
+        }
+    }
+
     /// The wall thickness t, mm.
     pub fn thickness_mm(&self) -> Real {
         match *self {
             CrossSection::Round { thickness_mm, .. } => thickness_mm,
+            CrossSection::Rectangular(r) => r.thickness_mm,
         }
     }
 
-    /// The size across the section at the wall's mid-surface (a round tube's mean diameter d),
-    /// mm: the scale a sideways drift of the tube is measured against.
+    /// The size across the section at the wall's mid-surface, mm: a round tube's mean diameter
+    /// d, a rectangular one's larger side. The scale a sideways drift of the tube is measured
+    /// against, and the wall's slenderness with t.
     pub fn width_mm(&self) -> Real {
         match *self {
             CrossSection::Round {
                 mean_diameter_mm, ..
             } => mean_diameter_mm,
+            CrossSection::Rectangular(r) => r.side_a_mm.max(r.side_b_mm),
         }
     }
 
-    /// From the centre to the undeformed outer surface, mm: (d + t)/2 for a round tube.
+    /// The name of [`CrossSection::width_mm`] in a slenderness ratio: `d` or `b`.
+    pub fn width_symbol(&self) -> &'static str {
+        match self {
+            CrossSection::Round { .. } => "d",
+            CrossSection::Rectangular(_) => "b",
+        }
+    }
+
+    /// From the centre to the undeformed outer surface, mm, as far as it goes: (d + t)/2 for a
+    /// round tube, half the larger outer side for a rectangular one.
     pub fn outer_mm(&self) -> Real {
         match *self {
             CrossSection::Round {
                 thickness_mm: t,
                 mean_diameter_mm: d,
             } => (d + t) / 2.0,
+            CrossSection::Rectangular(r) => {
+                let (a, b) = r.outer_half();
+                a.max(b)
+            }
+        }
+    }
+
+    /// From the centre to the outer surface along the plates' normal in a lateral crush, mm:
+    /// (d + t)/2, or (b + t)/2.
+    pub fn half_height_mm(&self) -> Real {
+        match *self {
+            CrossSection::Round { .. } => self.outer_mm(),
+            CrossSection::Rectangular(r) => r.outer_half().1,
+        }
+    }
+
+    /// The bore between the plates in a lateral crush, mm: d − t, or b − t.
+    pub fn bore_mm(&self) -> Real {
+        match *self {
+            CrossSection::Round {
+                thickness_mm: t,
+                mean_diameter_mm: d,
+            } => d - t,
+            CrossSection::Rectangular(r) => r.side_b_mm - r.thickness_mm,
+        }
+    }
+
+    /// The wall's cross-section area, mm²: π d t, or t times the mid-line's length.
+    pub fn area_mm2(&self) -> Real {
+        match *self {
+            CrossSection::Round {
+                thickness_mm: t,
+                mean_diameter_mm: d,
+            } => PI * d * t,
+            CrossSection::Rectangular(r) => r.area_mm2(),
         }
     }
 
     /// The wall-line metric, around: where on the wall a point at (dx, dy) from the section's
-    /// centre lies, as an angle in (−π, π] (its polar angle, for a round tube).
+    /// centre lies, as an angle in (−π, π] (its polar angle, for a round tube; its nearest
+    /// mid-line point's share of the perimeter from the middle of the +x face, for a
+    /// rectangular one).
     #[inline]
     pub fn angle(&self, dx: Real, dy: Real) -> Real {
         match self {
             CrossSection::Round { .. } => dy.atan2(dx),
+            CrossSection::Rectangular(r) => r.angle(dx, dy),
         }
     }
 
     /// The wall-line metric, out: how far from the section's centre a point at (dx, dy) lies,
-    /// measured along the wall's outward normal (its radius, for a round tube), mm.
+    /// measured along the wall's outward normal, mm: its radius, for a round tube; for a
+    /// rectangular one [`CrossSection::outer_mm`] plus its signed distance from the
+    /// undeformed outer surface (the distance from the centre, on the faces of a square).
+    /// Either way, the undeformed outer surface reads `outer_mm`.
     #[inline]
     pub fn reach(&self, dx: Real, dy: Real) -> Real {
         match self {
             CrossSection::Round { .. } => dx.hypot(dy),
+            CrossSection::Rectangular(r) => self.outer_mm() + r.beyond_outer(dx, dy),
+        }
+    }
+
+    /// The wall-line metric, faces: beside which face's middle half a point at (dx, dy) from
+    /// a rectangular section's centre lies, 0 to 3 anticlockwise from +x (None nearer a corner,
+    /// and always for a round section).
+    #[inline]
+    pub fn face(&self, dx: Real, dy: Real) -> Option<usize> {
+        match self {
+            CrossSection::Round { .. } => None,
+            CrossSection::Rectangular(r) => r.face(dx, dy),
         }
     }
 }
@@ -92,10 +186,7 @@ impl Geometry {
     /// discretization passed their checks (a stored case did, when it was submitted).
     pub fn of(spec: &CaseSpec) -> Geometry {
         Geometry {
-            section: CrossSection::Round {
-                thickness_mm: spec.tube.thickness_mm,
-                mean_diameter_mm: spec.tube.mean_diameter_mm,
-            },
+            section: CrossSection::of(&spec.tube),
             length_mm: spec.tube.length_mm,
             layers: spec.discretization.particles_through_thickness,
             model: spec.discretization.model,
@@ -111,22 +202,37 @@ impl Geometry {
     /// The number of particles [`Geometry::each_point`] lays out, exactly. Only for a geometry
     /// whose [`Geometry::count_f64`] fits a u64.
     pub fn count(&self) -> u64 {
-        let (t, d) = self.round();
         let n = self.layers as u64;
-        let h = t / n as f64;
-        let inner = d / 2.0 - t / 2.0;
-        let axial = layers_along(self.length_mm, h);
-        let around_all = || {
-            (0..n)
-                .map(|j| around(inner + (j as f64 + 0.5) * h, h))
-                .sum::<u64>()
-        };
+        let axial = layers_along(self.length_mm, self.spacing_mm());
         match self.model {
-            Model::ThreeD => around_all() * axial,
+            Model::ThreeD => self.around_all() * axial,
             // The (r, z) section: n layers by the layers along.
             Model::Axisymmetric => n * axial,
             // The cross-section: the rings of one layer along.
-            Model::PlaneStrain => around_all(),
+            Model::PlaneStrain => self.around_all(),
+        }
+    }
+
+    /// Particles around the wall, summed over the layers through it.
+    fn around_all(&self) -> u64 {
+        let n = self.layers as u64;
+        match self.section {
+            CrossSection::Round {
+                thickness_mm: t,
+                mean_diameter_mm: d,
+            } => {
+                let h = t / n as f64;
+                let inner = d / 2.0 - t / 2.0;
+                (0..n)
+                    .map(|j| around(inner + (j as f64 + 0.5) * h, h))
+                    .sum::<u64>()
+            }
+            CrossSection::Rectangular(r) => {
+                let h = self.spacing_mm();
+                (0..self.layers)
+                    .map(|j| around_length(r.perimeter_at(offset(r.thickness_mm, h, j)), h))
+                    .sum::<u64>()
+            }
         }
     }
 
@@ -134,18 +240,28 @@ impl Geometry {
     /// it cannot wrap or saturate (it may be infinite). Exact below 2⁵³, as every term is an
     /// integer.
     pub fn count_f64(&self) -> f64 {
-        let (t, d) = self.round();
+        let t = self.section.thickness_mm();
         let n = self.layers as f64;
         let h = t / n;
-        let inner = d / 2.0 - t / 2.0;
         let axial = (self.length_mm / h).round().max(1.0);
         let around_all = || -> f64 {
-            (0..self.layers)
-                .map(|j| {
-                    let r = inner + (j as f64 + 0.5) * h;
-                    (2.0 * PI * r / h).round().max(8.0)
-                })
-                .sum()
+            match self.section {
+                CrossSection::Round {
+                    mean_diameter_mm: d,
+                    ..
+                } => {
+                    let inner = d / 2.0 - t / 2.0;
+                    (0..self.layers)
+                        .map(|j| {
+                            let r = inner + (j as f64 + 0.5) * h;
+                            (2.0 * PI * r / h).round().max(8.0)
+                        })
+                        .sum()
+                }
+                CrossSection::Rectangular(r) => (0..self.layers)
+                    .map(|j| (r.perimeter_at(offset(t, h, j)) / h).round().max(8.0))
+                    .sum(),
+            }
         };
         match self.model {
             Model::ThreeD => around_all() * axial,
@@ -222,17 +338,19 @@ impl Geometry {
     /// Where the plates start, z of (the moving top plate, the fixed bottom plate), mm: on the
     /// tube's ends (axial) or on its outer surface (lateral).
     pub fn plates_z(&self) -> (Real, Real) {
-        let outer = self.section.outer_mm();
+        let half = self.section.half_height_mm();
         match self.mode {
             LoadingMode::Axial => (self.length_mm, 0.0),
-            LoadingMode::Lateral => (outer, -outer),
+            LoadingMode::Lateral => (half, -half),
         }
     }
 
     /// The box the particles must stay in, mm: three cells of `cell_mm` beyond the plates, and
-    /// the tube's outer radius plus its length around it (any fold or tip-over stays inside).
+    /// the tube's outer radius (its largest outer half-side) plus its length around it (any
+    /// fold or tip-over stays inside).
     pub fn domain(&self, cell_mm: Real) -> [[Real; 3]; 2] {
         let (outer, l) = (self.section.outer_mm(), self.length_mm);
+        let half = self.section.half_height_mm();
         let reach = outer + l;
         let margin = 3.0 * cell_mm;
         match (self.model, self.mode) {
@@ -240,13 +358,13 @@ impl Geometry {
                 [[-reach, -reach, -margin], [reach, reach, l + margin]]
             }
             (Model::ThreeD, LoadingMode::Lateral) => [
-                [-reach, -reach, -outer - margin],
-                [l + reach, reach, outer + margin],
+                [-reach, -reach, -half - margin],
+                [l + reach, reach, half + margin],
             ],
             // A particle reaching the axis would divide by r = 0 in its hoop strain rate.
             (_, LoadingMode::Axial) => [[0.0, 0.0, -margin], [reach, 0.0, l + margin]],
             (_, LoadingMode::Lateral) => {
-                [[-reach, 0.0, -outer - margin], [reach, 0.0, outer + margin]]
+                [[-reach, 0.0, -half - margin], [reach, 0.0, half + margin]]
             }
         }
     }
@@ -268,52 +386,56 @@ impl Geometry {
         }
     }
 
-    /// t and d of the round tube.
+    /// t and d of the round tube. A rectangular section reads as the round tube of its
+    /// mid-line's length: only the axisymmetric model, which the checks refuse it, asks.
     fn round(&self) -> (Real, Real) {
         match self.section {
             CrossSection::Round {
                 thickness_mm,
                 mean_diameter_mm,
             } => (thickness_mm, mean_diameter_mm),
+            CrossSection::Rectangular(r) => (r.thickness_mm, r.perimeter_at(0.0) / PI),
         }
     }
 
     fn lattice(&self) -> Lattice {
-        let (t, d) = self.round();
-        Lattice::new(t, d, self.length_mm, self.layers)
+        Lattice::new(&self.section, self.length_mm, self.layers)
     }
 
     /// The section a reduced model runs, as the engine holds it: per particle its centre in the
     /// x–z plane and the volume it stands for (see the module's note), mm and mm³.
     /// Axisymmetric: n layers through the wall by round(l/h) along, each the annulus
-    /// π(r₁² − r₀²)·dz. Plane strain: the rings of [`Lattice`] in the y–z cross-section (y as
-    /// x), each sector times l, ordered by angle.
+    /// π(r₁² − r₀²)·dz. Plane strain: the layers of [`Lattice`] in the y–z cross-section (y as
+    /// x), each particle's piece times l, ordered around the wall.
     fn section_points(&self) -> Vec<(Vector3<Real>, Real)> {
-        let (t, d) = self.round();
         let (l, n) = (self.length_mm, self.layers);
-        let lattice = Lattice::new(t, d, l, n);
-        let h = t / n as Real;
-        let inner = d / 2.0 - t / 2.0;
+        let lattice = self.lattice();
         match self.model {
-            Model::Axisymmetric => (0..lattice.along)
-                .flat_map(|k| {
-                    let z = (k as Real + 0.5) * lattice.dz;
-                    (0..n).map(move |j| {
-                        let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-                        let vol = PI * (r1 * r1 - r0 * r0) * lattice.dz;
-                        (Vector3::new(0.5 * (r0 + r1), 0.0, z), vol)
+            Model::Axisymmetric => {
+                let (t, d) = self.round();
+                let h = t / n as Real;
+                let inner = d / 2.0 - t / 2.0;
+                (0..lattice.along)
+                    .flat_map(|k| {
+                        let z = (k as Real + 0.5) * lattice.dz;
+                        (0..n).map(move |j| {
+                            let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
+                            let vol = PI * (r1 * r1 - r0 * r0) * lattice.dz;
+                            (Vector3::new(0.5 * (r0 + r1), 0.0, z), vol)
+                        })
                     })
-                })
-                .collect(),
+                    .collect()
+            }
             Model::PlaneStrain | Model::ThreeD => {
                 let mut points: Vec<(Real, Vector3<Real>, Real)> = lattice
                     .rings
                     .iter()
-                    .flat_map(|&(r, count, vol)| {
-                        (0..count).map(move |i| {
-                            let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                            let x = Vector3::new(r * th.cos(), 0.0, r * th.sin());
-                            (th, x, vol / lattice.dz * l)
+                    .flat_map(|ring| {
+                        let lattice = &lattice;
+                        (0..ring.1).map(move |i| {
+                            let th = (i as Real + 0.5) * 2.0 * PI / ring.1 as Real;
+                            let (u, v) = lattice.at(ring, i);
+                            (th, Vector3::new(u, 0.0, v), ring.2 / lattice.dz * l)
                         })
                     })
                     .collect();
@@ -326,54 +448,102 @@ impl Geometry {
     }
 }
 
-/// The particle lattice of a round tube's wall: `n` layers through the thickness at spacing
-/// h = t/n; each layer at mid-radius r holds round(2πr/h) particles around and round(l/h)
-/// along. Each particle's volume is its exact annular sector, so the volumes add up to π d t l.
+/// The particle lattice of a tube's wall: `n` layers through the thickness at spacing h = t/n,
+/// round(l/h) along. A round tube's layer at mid-radius r holds round(2πr/h) particles around,
+/// each its exact annular sector, so the volumes add up to π d t l; a rectangular tube's layer
+/// at offset e from the mid-line holds round(P(e)/h) spread evenly along it, each h·P(e)/count
+/// times dz ([`Rectangle`]), so they add up to t·P(0)·l. Every layer holds at least 8.
 struct Lattice {
-    /// Per layer: mid-radius (mm), particles around, volume of each (mm³).
+    section: CrossSection,
+    /// Per layer: mid-radius (round) or offset from the mid-line (rectangular), mm; particles
+    /// around; volume of each, mm³.
     rings: Vec<(Real, usize, Real)>,
     along: usize,
     dz: Real,
 }
 
 impl Lattice {
-    fn new(t: Real, d: Real, l: Real, n: u32) -> Lattice {
+    fn new(section: &CrossSection, l: Real, n: u32) -> Lattice {
+        let t = section.thickness_mm();
         let h = t / n as Real;
-        let inner = d / 2.0 - t / 2.0;
         let along = layers_along(l, h) as usize;
         let dz = l / along as Real;
-        let rings = (0..n)
-            .map(|j| {
-                let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-                let r = 0.5 * (r0 + r1);
-                let count = around(r, h) as usize;
-                (
-                    r,
-                    count,
-                    0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
-                )
-            })
-            .collect();
-        Lattice { rings, along, dz }
+        let rings = match *section {
+            CrossSection::Round {
+                mean_diameter_mm: d,
+                ..
+            } => {
+                let inner = d / 2.0 - t / 2.0;
+                (0..n)
+                    .map(|j| {
+                        let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
+                        let r = 0.5 * (r0 + r1);
+                        let count = around(r, h) as usize;
+                        (
+                            r,
+                            count,
+                            0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
+                        )
+                    })
+                    .collect()
+            }
+            CrossSection::Rectangular(rect) => (0..n)
+                .map(|j| {
+                    let e = offset(t, h, j);
+                    let length = rect.perimeter_at(e);
+                    let count = around_length(length, h) as usize;
+                    (e, count, h * length / count as Real * dz)
+                })
+                .collect(),
+        };
+        Lattice {
+            section: *section,
+            rings,
+            along,
+            dz,
+        }
     }
 
-    /// Each particle's centre and volume, axial position outermost, then angle, then radius.
+    /// Particle `i` of a layer in the cross-section's own axes (u, v).
+    fn at(&self, &(place, count, _): &(Real, usize, Real), i: usize) -> (Real, Real) {
+        match self.section {
+            CrossSection::Round { .. } => {
+                let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
+                (place * th.cos(), place * th.sin())
+            }
+            CrossSection::Rectangular(rect) => {
+                let step = rect.perimeter_at(place) / count as Real;
+                rect.point_at(place, (i as Real + 0.5) * step)
+            }
+        }
+    }
+
+    /// Each particle's centre and volume, axial position outermost, then layer, then around.
     fn points(&self, mode: LoadingMode) -> impl Iterator<Item = (Vector3<Real>, Real)> + '_ {
         (0..self.along).flat_map(move |k| {
             let s = (k as Real + 0.5) * self.dz;
-            self.rings.iter().flat_map(move |&(r, count, vol)| {
-                (0..count).map(move |i| {
-                    let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                    let (c, sn) = (r * th.cos(), r * th.sin());
+            self.rings.iter().flat_map(move |ring| {
+                (0..ring.1).map(move |i| {
+                    let (c, sn) = self.at(ring, i);
                     let x = match mode {
                         LoadingMode::Axial => Vector3::new(c, sn, s),
                         LoadingMode::Lateral => Vector3::new(s, c, sn),
                     };
-                    (x, vol)
+                    (x, ring.2)
                 })
             })
         })
     }
+}
+
+/// The offset from the mid-line of layer `j` through a wall t thick at spacing h, mm.
+fn offset(t: Real, h: Real, j: u32) -> Real {
+    -0.5 * t + (j as Real + 0.5) * h
+}
+
+/// Particles along a curve of this length at spacing h (at least 8).
+fn around_length(length: f64, h: f64) -> u64 {
+    ((length / h).round() as u64).max(8)
 }
 
 /// Particles around a ring of radius r at spacing h (at least 8).
@@ -405,5 +575,85 @@ mod tests {
             assert_eq!(count, case.particle_count());
             assert_eq!(case.geometry().count_f64(), count as f64);
         }
+    }
+
+    /// A rectangular tube 40 × 30, t 2, corner r 3, l 50 at n = 3, in 3D (axial and lateral)
+    /// and in plane strain.
+    fn box_case(mode: &str, model: &str) -> Case {
+        let text = format!(
+            r#"{{"tube": {{"section": "rectangular", "side_a_mm": 40, "side_b_mm": 30,
+                          "thickness_mm": 2, "corner_radius_mm": 3, "length_mm": 50}},
+                "loading": {{"mode": "{mode}", "crush_distance_mm": 10}},
+                "discretization": {{"model": "{model}", "particles_through_thickness": 3}}}}"#
+        );
+        Case::from_json(&text, &Limits::default()).unwrap()
+    }
+
+    /// The wall's area is t times the mid-line's length, 2(a − 2r) + 2(b − 2r) + 2πr, exactly
+    /// (each layer's band h · P(e) sums to t · P(0) since the offsets e average to 0); the
+    /// particles' volumes add up to it times l, their count is the one the checks price, and
+    /// every particle lies in the wall.
+    #[test]
+    fn a_rectangular_tubes_volumes_add_up_to_its_wall_and_its_count_is_exact() {
+        let (t, a, b, r, l) = (2.0, 40.0, 30.0, 3.0, 50.0);
+        let area = t * (2.0 * (a - 2.0 * r) + 2.0 * (b - 2.0 * r) + 2.0 * PI * r);
+        for (mode, model) in [
+            ("axial", "3d"),
+            ("lateral", "3d"),
+            ("lateral", "plane_strain"),
+        ] {
+            let case = box_case(mode, model);
+            let geometry = case.geometry();
+            let CrossSection::Rectangular(rect) = geometry.section else {
+                panic!("a rectangular case has a rectangular section")
+            };
+            assert!((geometry.section.area_mm2() / area - 1.0).abs() < 1e-12);
+            let (mut vol, mut count) = (0.0, 0u64);
+            let mut outside = 0;
+            geometry.each_point(|x, v| {
+                (vol, count) = (vol + v, count + 1);
+                // The cross-section's (u, v): (x, y) axial, (y, z) lateral, (x, z) in the
+                // plane-strain section.
+                let (u, w) = match (mode, model) {
+                    ("axial", _) => (x.x, x.y),
+                    (_, "3d") => (x.y, x.z),
+                    _ => (x.x, x.z),
+                };
+                let beyond = rect.beyond_outer(u, w);
+                if !(-t - 1e-9..=1e-9).contains(&beyond) {
+                    outside += 1;
+                }
+            });
+            let exact = area * l;
+            assert!(
+                (vol / exact - 1.0).abs() < 1e-12,
+                "{mode} {model}: {vol} vs {exact}"
+            );
+            assert_eq!(outside, 0, "{mode} {model}: particles outside the wall");
+            assert_eq!(count, case.particle_count(), "{mode} {model}");
+            assert_eq!(geometry.count_f64(), count as f64, "{mode} {model}");
+            // Per layer round(P(e)/h) around; 3D: round(l/h) layers along.
+            let h = t / 3.0;
+            let around: u64 = (0..3)
+                .map(|j| (rect.perimeter_at(-t / 2.0 + (j as f64 + 0.5) * h) / h).round() as u64)
+                .sum();
+            let along = if model == "3d" {
+                (l / h).round() as u64
+            } else {
+                1
+            };
+            assert_eq!(count, around * along, "{mode} {model}");
+        }
+    }
+
+    /// A square tube's plates start on its ends (axial) or its outer faces (lateral), and the
+    /// lateral bore is b − t.
+    #[test]
+    fn a_rectangular_tubes_plates_start_on_it() {
+        let axial = box_case("axial", "3d");
+        assert_eq!(axial.geometry().plates_z(), (50.0, 0.0));
+        let lateral = box_case("lateral", "3d");
+        assert_eq!(lateral.geometry().plates_z(), (16.0, -16.0));
+        assert_eq!(lateral.geometry().section.bore_mm(), 28.0);
     }
 }

@@ -1,7 +1,8 @@
 //! The shape-function policy: which shape functions a case that names none runs with, and why
 //! (`docs/validation.md` §4, "Which shape function for which wall").
 
-use super::spec::{Model, ShapeKind, Tube};
+use super::geometry::CrossSection;
+use super::spec::{Model, ShapeKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -25,21 +26,23 @@ impl ShapeKind {
     /// (d/t ≥ [`LINEAR_FROM_D_OVER_T`]) gets linear shapes: with uGIMP some such tubes fold at
     /// both plates and then tip over between the near-frictionless plates of the source, where
     /// linear shapes fold them progressively, as the source's tubes did. Every other case gets
-    /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7).
-    pub fn default_for(tube: &Tube, model: Model) -> ShapeChoice {
-        let slenderness = tube.mean_diameter_mm / tube.thickness_mm;
+    /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7). A
+    /// rectangular section's slenderness is its larger side over t (b/t).
+    pub fn default_for(section: &CrossSection, model: Model) -> ShapeChoice {
+        let slenderness = section.width_mm() / section.thickness_mm();
+        let w = section.width_symbol();
         let (kind, why) = match model {
             Model::ThreeD if slenderness >= LINEAR_FROM_D_OVER_T => (
                 ShapeKind::Linear,
                 format!(
-                    "linear: the default for a thin wall (d/t = {slenderness:.1} >= \
+                    "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
                      {LINEAR_FROM_D_OVER_T}), which uGIMP can let tip over"
                 ),
             ),
             Model::ThreeD => (
                 ShapeKind::Gimp,
                 format!(
-                    "gimp: the default for a wall of d/t = {slenderness:.1} < {LINEAR_FROM_D_OVER_T}"
+                    "gimp: the default for a wall of {w}/t = {slenderness:.1} < {LINEAR_FROM_D_OVER_T}"
                 ),
             ),
             _ => (

@@ -2,10 +2,11 @@
 //! kg/m³, m/s), their defaults, and the reading of a case's text into them. Nothing here is
 //! checked beyond types: [`super::case::Case::parse`] does that.
 //!
-//! Omitted fields take the PVC defaults of the design page (t = 3.2 mm, d = 22.2 mm, l = 76.2 mm,
-//! E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the density is our assumption, the
-//! source gives none; rigid PVC lies between 1300 and 1450 kg/m³). The material section's own
-//! types, its presets and how a preset fills it are in [`super::material::section`].
+//! Omitted fields take the PVC defaults of the design page (a round tube, t = 3.2 mm,
+//! d = 22.2 mm, l = 76.2 mm, E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the
+//! density is our assumption, the source gives none; rigid PVC lies between 1300 and
+//! 1450 kg/m³). The material section's own types, its presets and how a preset fills it are
+//! in [`super::material::section`].
 
 use super::input::{clip, clip_quoted, object, object_from_str};
 use super::limits::CaseError;
@@ -48,26 +49,79 @@ pub struct CaseSpec {
     pub output: Output,
 }
 
+/// The shape of the tube's cross-section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+#[schemars(transform = super::schema::choices)]
+pub enum Section {
+    /// A circle of mean diameter d.
+    #[default]
+    Round,
+    /// A rectangle of sides a × b with rounded corners (a square when a = b).
+    Rectangular,
+}
+
+impl Section {
+    /// The name a case uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Section::Round => "round",
+            Section::Rectangular => "rectangular",
+        }
+    }
+}
+
+/// The default mean diameter of a round tube, mm.
+pub const DEFAULT_MEAN_DIAMETER_MM: f64 = 22.2;
+
+/// The tube. Lengths of the cross-section are measured at the wall's mid-surface. A round tube
+/// has a mean diameter; a rectangular one sides a and b and a corner radius, and no diameter.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Tube {
+    /// The cross-section's shape.
+    #[schemars(
+        title = "Cross-section",
+        description = "round: a circle of mean diameter d. rectangular: sides a × b with rounded corners (a square when b is empty)."
+    )]
+    pub section: Section,
     /// Wall thickness t.
-    #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter (round), less than the corner radius's double and the smaller side's half (rectangular).", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub thickness_mm: f64,
-    /// Mean diameter d, measured at the wall's mid-surface.
-    #[schemars(title = "Mean diameter d", description = "Measured at the wall's mid-surface.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
-    pub mean_diameter_mm: f64,
+    /// Round: mean diameter d, at the wall's mid-surface. Omitted: [`DEFAULT_MEAN_DIAMETER_MM`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Mean diameter d", description = "Round tubes: measured at the wall's mid-surface. Empty: 22.2 mm.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    pub mean_diameter_mm: Option<f64>,
     /// Length l along the tube axis.
     #[schemars(title = "Length l", description = "Along the tube axis.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub length_mm: f64,
+    /// Rectangular: side a, along x in an axial crush and along y (beside the plates) in a
+    /// lateral one. Required for a rectangular section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Side a", description = "Rectangular tubes: the side along x, at the wall's mid-surface; required for them.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    pub side_a_mm: Option<f64>,
+    /// Rectangular: side b, along y in an axial crush and between the plates (along z) in a
+    /// lateral one. Omitted: a, a square tube.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Side b", description = "Rectangular tubes: the side along y (between the plates in a lateral crush), at the wall's mid-surface. Empty: side a, a square tube.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    pub side_b_mm: Option<f64>,
+    /// Rectangular: radius r of the corners of the wall's mid-line, from t/2 (a sharp inner
+    /// corner) to half the smaller side. Omitted: t.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Corner radius r", description = "Rectangular tubes: the radius of the corners of the wall's mid-line, from t/2 (a sharp inner corner) to half the smaller side. Empty: t.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    pub corner_radius_mm: Option<f64>,
 }
 
 impl Default for Tube {
     fn default() -> Self {
         Tube {
+            section: Section::Round,
             thickness_mm: 3.2,
-            mean_diameter_mm: 22.2,
+            mean_diameter_mm: Some(DEFAULT_MEAN_DIAMETER_MM),
             length_mm: 76.2,
+            side_a_mm: None,
+            side_b_mm: None,
+            corner_radius_mm: None,
         }
     }
 }
@@ -417,6 +471,9 @@ pub fn full_case() -> CaseSpec {
     full.loading.ramp_mm = Some(0.0);
     full.discretization.shape = Some(ShapeKind::Gimp);
     full.output.frames = 2;
+    full.tube.side_a_mm = Some(0.0);
+    full.tube.side_b_mm = Some(0.0);
+    full.tube.corner_radius_mm = Some(0.0);
     full.material = Material {
         preset: Some(Preset::Pvc),
         hardening: HardeningKind::Table,

@@ -10,9 +10,10 @@ fn axial_case() -> Case {
 /// A lattice of the case's tube, each particle moved by `deform(z, θ, r) -> (x, y, z)`.
 fn tube(case: &Case, deform: impl Fn(Real, Real, Real) -> [Real; 3]) -> Snapshot {
     let spec = case.spec();
+    let section = case.geometry().section;
     let (t, d, l) = (
-        spec.tube.thickness_mm,
-        spec.tube.mean_diameter_mm,
+        section.thickness_mm(),
+        section.width_mm(),
         spec.tube.length_mm,
     );
     let h = case.spacing_mm();

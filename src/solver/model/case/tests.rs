@@ -572,3 +572,95 @@ fn a_case_without_a_series_serializes_without_the_frames_field() {
     assert!(json["output"].get("frames").is_none(), "{json}");
     assert!(crate::solver::model::spec::field_paths().contains(&"output.frames".to_string()));
 }
+
+/// The fields a rectangular tube's case is refused for, in the order the checks name them.
+fn rectangular_refusals(tube: &str, rest: &str) -> Vec<(String, String)> {
+    let text = format!(r#"{{"tube": {{"section": "rectangular", {tube}}}{rest}}}"#);
+    rejected_fields(&text, &Limits::default())
+        .into_iter()
+        .map(|e| (e.field, e.reason))
+        .collect()
+}
+
+#[test]
+fn a_rectangular_tube_names_each_length_it_lacks_or_cannot_have() {
+    let fields = |tube: &str, rest: &str| -> Vec<String> {
+        rectangular_refusals(tube, rest)
+            .into_iter()
+            .map(|(f, _)| f)
+            .collect()
+    };
+    // No side a; a diameter that belongs to a round tube.
+    assert_eq!(
+        fields(r#""mean_diameter_mm": 20"#, ""),
+        ["tube.mean_diameter_mm", "tube.side_a_mm"]
+    );
+    // A wall as thick as half the smaller side.
+    assert_eq!(
+        fields(r#""side_a_mm": 40, "side_b_mm": 6, "thickness_mm": 3"#, ""),
+        ["tube.thickness_mm"]
+    );
+    // Corners sharper than t/2 inside, or wider than the smaller side.
+    for r in [0.5, 21.0] {
+        let refused = rectangular_refusals(
+            &format!(r#""side_a_mm": 40, "thickness_mm": 2, "corner_radius_mm": {r}"#),
+            "",
+        );
+        assert_eq!(refused.len(), 1, "r {r}: {refused:?}");
+        assert_eq!(refused[0].0, "tube.corner_radius_mm");
+    }
+    // Negative and non-finite sides.
+    assert_eq!(
+        fields(r#""side_a_mm": -1, "side_b_mm": 0"#, ""),
+        ["tube.side_a_mm", "tube.side_b_mm"]
+    );
+    // A round tube with a rectangle's lengths.
+    let round = rejected_fields(
+        r#"{"tube": {"side_a_mm": 40, "corner_radius_mm": 2}}"#,
+        &Limits::default(),
+    );
+    let named: Vec<&str> = round.iter().map(|e| e.field.as_str()).collect();
+    assert_eq!(named, ["tube.side_a_mm", "tube.corner_radius_mm"]);
+    // The axisymmetric model has no rectangle to revolve; a lateral crush past the bore
+    // between the plates (b − t = 28 mm).
+    let refused = fields(
+        r#""side_a_mm": 40, "side_b_mm": 30, "thickness_mm": 2"#,
+        r#", "discretization": {"model": "axisymmetric"}"#,
+    );
+    assert!(
+        refused.contains(&"discretization.model".to_string())
+            && refused.contains(&"tube.section".to_string()),
+        "{refused:?}"
+    );
+    let past = rectangular_refusals(
+        r#""side_a_mm": 40, "side_b_mm": 30, "thickness_mm": 2"#,
+        r#", "loading": {"mode": "lateral", "crush_distance_mm": 27}"#,
+    );
+    assert_eq!(past.len(), 1, "{past:?}");
+    assert_eq!(past[0].0, "loading.crush_distance_mm");
+    assert!(
+        past[0].1.contains("side_b_mm - thickness_mm"),
+        "{}",
+        past[0].1
+    );
+}
+
+#[test]
+fn a_square_tube_prices_its_particles_by_its_sides() {
+    let limits = Limits {
+        max_particles: 1000,
+        ..Limits::default()
+    };
+    let refused = rejected_fields(
+        r#"{"tube": {"section": "rectangular", "side_a_mm": 40, "thickness_mm": 1.5}}"#,
+        &limits,
+    );
+    let named: Vec<&str> = refused.iter().map(|e| e.field.as_str()).collect();
+    assert!(named.contains(&"tube.side_a_mm") && named.contains(&"tube.side_b_mm"));
+    assert!(!named.contains(&"tube.mean_diameter_mm"));
+    assert!(
+        refused[0].reason.contains("side_a_mm + side_b_mm"),
+        "{}",
+        refused[0].reason
+    );
+}

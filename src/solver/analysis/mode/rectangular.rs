@@ -1,0 +1,191 @@
+//! The collapse mode of a rectangular tube crushed axially, from how its faces fold
+//! ([`crate::solver::analysis::faces`]). Units: mm.
+//!
+//! Abramowicz & Jones (1984) name the progressive modes of square tubes by their layers of
+//! lobes: in the **symmetric** mode (Wierzbicki & Abramowicz's) every layer folds two opposite
+//! faces out and the other two in; in the **asymmetric mixed** modes some layers fold three
+//! faces out and one in (or the like) among symmetric ones, and the column leans; in the
+//! **extensional** mode, of thick walls, every face folds out together. Each folded slice is
+//! read by the signs of its faces' displacements: a face that moved less than
+//! [`FLAT_SHARE`] of the slice's largest counts as flat; four faces out (or in) together are
+//! extensional, opposite faces alike and neighbours unlike symmetric, anything else
+//! asymmetric. The tube is extensional when at least [`EXTENSIONAL_SHARE`] of its folded
+//! slices are, asymmetric mixed when at least [`ASYMMETRIC_SHARE`] are asymmetric, and
+//! symmetric otherwise. Global bending is the round tube's global buckling, judged by the
+//! same drift of the slices' centroids before this.
+
+use super::{CollapseMode, FaceLayers, FOLDED_MIN_T};
+use crate::solver::analysis::faces::FaceSlice;
+use crate::solver::Real;
+
+/// A slice is folded when its RMS displacement reaches this share of the largest slice's
+/// (and [`FOLDED_MIN_T`] · t).
+pub const FOLDED_FRACTION: Real = 0.25;
+
+/// A face whose displacement is below this share of the slice's largest counts as flat.
+pub const FLAT_SHARE: Real = 0.25;
+
+/// The share of folded slices with every face out (or in) together that makes the mode
+/// extensional.
+pub const EXTENSIONAL_SHARE: Real = 0.5;
+
+/// The share of folded slices with an asymmetric pattern that makes the mode asymmetric mixed:
+/// one layer in four.
+pub const ASYMMETRIC_SHARE: Real = 0.25;
+
+/// What a folded slice's faces show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layer {
+    Symmetric,
+    Asymmetric,
+    Extensional,
+}
+
+/// The pattern of one slice's four faces (in face order around the tube).
+fn layer(w: [Real; 4]) -> Layer {
+    let largest = w.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+    let sign = w.map(|v| match v {
+        v if v >= FLAT_SHARE * largest => 1,
+        v if v <= -FLAT_SHARE * largest => -1,
+        _ => 0,
+    });
+    if sign.iter().all(|&s| s == sign[0] && s != 0) {
+        Layer::Extensional
+    } else if sign[0] == sign[2] && sign[1] == sign[3] && sign[0] != sign[1] {
+        Layer::Symmetric
+    } else {
+        Layer::Asymmetric
+    }
+}
+
+/// The mode of an axially crushed rectangular tube that did not bend over as a whole, from its
+/// face slices; the counts behind it; and why.
+pub(super) fn decide(slices: &[FaceSlice], t: Real) -> (CollapseMode, FaceLayers, String) {
+    let whole: Vec<(&FaceSlice, [Real; 4])> = slices
+        .iter()
+        .filter_map(|s| match s.w {
+            [Some(a), Some(b), Some(c), Some(d)] => Some((s, [a, b, c, d])),
+            _ => None,
+        })
+        .collect();
+    let max_rms = whole.iter().map(|(s, _)| s.rms).fold(0.0, Real::max);
+    let mut counts = FaceLayers::default();
+    for (_, w) in whole
+        .iter()
+        .filter(|(s, _)| s.rms >= (FOLDED_FRACTION * max_rms).max(FOLDED_MIN_T * t))
+    {
+        match layer(*w) {
+            Layer::Symmetric => counts.symmetric += 1,
+            Layer::Asymmetric => counts.asymmetric += 1,
+            Layer::Extensional => counts.extensional += 1,
+        }
+    }
+    let folded = counts.symmetric + counts.asymmetric + counts.extensional;
+    let tally = format!(
+        "of {folded} folded slices, {} symmetric, {} asymmetric, {} extensional",
+        counts.symmetric, counts.asymmetric, counts.extensional
+    );
+    let share = |n: u32| n as Real / folded.max(1) as Real;
+    let (mode, why) = if folded == 0 {
+        (
+            CollapseMode::Symmetric,
+            "no slice folded; reported as symmetric".to_string(),
+        )
+    } else if share(counts.extensional) >= EXTENSIONAL_SHARE {
+        (
+            CollapseMode::Extensional,
+            format!("{tally}: extensional (at least {EXTENSIONAL_SHARE} of them)"),
+        )
+    } else if share(counts.asymmetric) >= ASYMMETRIC_SHARE {
+        (
+            CollapseMode::AsymmetricMixed,
+            format!("{tally}: asymmetric mixed (at least {ASYMMETRIC_SHARE} asymmetric)"),
+        )
+    } else {
+        (CollapseMode::Symmetric, format!("{tally}: symmetric"))
+    };
+    (mode, counts, why)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::analysis::faces::tests::{deformed, square_case};
+    use crate::solver::analysis::mode::detect_mode;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn a_slices_faces_give_its_pattern() {
+        assert_eq!(layer([3.0, -2.0, 2.5, -3.0]), Layer::Symmetric);
+        // A neighbour pair barely moving still reads symmetric.
+        assert_eq!(layer([3.0, 0.2, 2.5, -0.1]), Layer::Symmetric);
+        assert_eq!(layer([3.0, 2.0, 2.5, 1.0]), Layer::Extensional);
+        assert_eq!(layer([-3.0, -2.0, -2.5, -1.0]), Layer::Extensional);
+        assert_eq!(layer([3.0, 2.0, 2.5, -3.0]), Layer::Asymmetric);
+        assert_eq!(layer([3.0, 0.0, -2.5, 0.0]), Layer::Asymmetric);
+    }
+
+    /// Layers of lobes 15 mm of wall each over the 60 mm tube, 6 mm deep; `pattern(layer)`
+    /// gives each face's sign in that layer.
+    fn layers(pattern: impl Fn(usize) -> [Real; 4]) -> impl Fn(Real, usize) -> Real {
+        move |z, face| {
+            let k = ((z / 15.0) as usize).min(3);
+            6.0 * pattern(k)[face] * (PI * (z % 15.0) / 15.0).sin()
+        }
+    }
+
+    #[test]
+    fn symmetric_layers_are_the_symmetric_mode() {
+        let case = square_case();
+        let alternate = |k: usize| {
+            let s = if k % 2 == 0 { 1.0 } else { -1.0 };
+            [s, -s, s, -s]
+        };
+        let snap = deformed(&case, layers(alternate), |_| [0.0; 2]);
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::Symmetric, "{detail:?}");
+        let faces = detail.faces.unwrap();
+        assert!(faces.symmetric > 0 && faces.asymmetric == 0, "{detail:?}");
+        assert_eq!(mode.kind(), "symmetric");
+    }
+
+    #[test]
+    fn every_face_out_is_the_extensional_mode() {
+        let case = square_case();
+        let snap = deformed(&case, layers(|_| [1.0; 4]), |_| [0.0; 2]);
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::Extensional, "{detail:?}");
+    }
+
+    #[test]
+    fn layers_of_three_out_and_one_in_make_the_mode_asymmetric_mixed() {
+        let case = square_case();
+        // Symmetric layers and, between them, three faces out and one in.
+        let mixed = |k: usize| match k % 2 {
+            0 => [1.0, -1.0, 1.0, -1.0],
+            _ => [1.0, 1.0, 1.0, -1.0],
+        };
+        let snap = deformed(&case, layers(mixed), |_| [0.0; 2]);
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::AsymmetricMixed, "{detail:?}");
+        assert_eq!(mode.kind(), "asymmetric_mixed");
+    }
+
+    #[test]
+    fn a_square_column_bent_over_is_global_buckling() {
+        let case = square_case();
+        // Bowed by 30 mm at mid-length (> 0.5 · 50 mm), the faces unfolded.
+        let snap = deformed(&case, |_, _| 0.0, |z| [30.0 * (PI * z / 60.0).sin(), 0.0]);
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::GlobalBuckling, "{detail:?}");
+    }
+
+    #[test]
+    fn an_undeformed_square_tube_reads_symmetric_and_says_so() {
+        let case = square_case();
+        let snap = deformed(&case, |_, _| 0.0, |_| [0.0; 2]);
+        let (mode, detail) = detect_mode(&case, &snap);
+        assert_eq!(mode, CollapseMode::Symmetric);
+        assert!(detail.reason.contains("no slice folded"), "{detail:?}");
+    }
+}
