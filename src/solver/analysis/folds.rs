@@ -329,7 +329,7 @@ mod tests {
     /// Symmetric layers of a square tube, each `layer` mm of wall: two opposite faces out and
     /// the other two in, turned over from one layer to the next.
     fn symmetric(z: Real, face: usize, layer: Real, amplitude: Real) -> Real {
-        let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
         sign * amplitude * (PI * z / layer).sin()
     }
 

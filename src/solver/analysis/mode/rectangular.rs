@@ -138,7 +138,7 @@ mod tests {
     fn symmetric_layers_are_the_symmetric_mode() {
         let case = square_case();
         let alternate = |k: usize| {
-            let s = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let s = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
             [s, -s, s, -s]
         };
         let snap = deformed(&case, layers(alternate), |_| [0.0; 2]);

@@ -48,10 +48,13 @@ impl Symmetry {
         }
     }
 
-    /// 1 where the hoop terms act, 0 in plane strain.
-    fn hoop(self) -> Real {
+    /// A hoop term, `value / r` at radius `r` (x), where the hoop terms act; exactly 0 in
+    /// plane strain, where x is no radius and may be 0 (a particle on the middle of a
+    /// rectangular tube's face: 0 · (0 / 0) would be NaN).
+    #[inline(always)]
+    fn hoop_term(self, value: Real, r: Real) -> Real {
         match self {
-            Symmetry::Axisymmetric => 1.0,
+            Symmetry::Axisymmetric => value / r,
             Symmetry::PlaneStrain => 0.0,
         }
     }

@@ -71,7 +71,7 @@ impl<S: Stencil> Section<S> {
         let p = &self.state.scene.particles;
         let (plates, half) = (&self.state.scene.plates, self.state.scene.half_size);
         let tolerance = CONTACT_TOLERANCE * half;
-        let hoop = self.symmetry.hoop();
+        let symmetry = self.symmetry;
         let inv = g.inv_cell;
         let s = &mut self.scratch;
         s.patches
@@ -111,7 +111,7 @@ impl<S: Stencil> Section<S> {
                     let st = &p.stress[q];
                     let vol = p.vol[q];
                     // f_x = −V(σxx ∂x + σxz ∂z + hoop·σyy·N/r), f_z = −V(σxz ∂x + σzz ∂z).
-                    let hoop_stress = hoop * st[1] / x.x;
+                    let hoop_stress = symmetry.hoop_term(st[1], x.x);
                     for i in 0..S::N {
                         for k in 0..S::N {
                             let at = patch.index(o[0] + i, o[1] + k);
@@ -220,7 +220,7 @@ impl<S: Stencil> Section<S> {
     /// 3D layout (with the hoop rate v_r / r), and the position.
     pub(super) fn gather_kinematics(&mut self, lp: Real, dt: Real) {
         let g = &self.grid;
-        let hoop = self.symmetry.hoop();
+        let symmetry = self.symmetry;
         let inv = g.inv_cell;
         let xs = &mut self.state.scene.particles.x;
         let grads = &mut self.scratch.gradient;
@@ -247,7 +247,7 @@ impl<S: Stencil> Section<S> {
                         0.0,
                         grad[0][1],
                         0.0,
-                        hoop * vel[0] / x.x,
+                        symmetry.hoop_term(vel[0], x.x),
                         0.0,
                         grad[1][0],
                         0.0,
