@@ -22,15 +22,20 @@ pub enum Preset {
     Aa6061T6,
     /// Mild steel: perfectly plastic with Cowper–Symonds' rate law of Jones's book.
     MildSteel,
+    /// Austenitic stainless steel AISI 304, annealed: Swift hardening from Callister's
+    /// strength coefficient and exponent, Cowper–Symonds' rate law of Jones's book.
+    #[serde(rename = "stainless_304")]
+    Stainless304,
 }
 
 impl Preset {
     /// Every preset, in the order the form lists them.
-    pub const ALL: [Preset; 4] = [
+    pub const ALL: [Preset; 5] = [
         Preset::Pvc,
         Preset::Aa6060T5,
         Preset::Aa6061T6,
         Preset::MildSteel,
+        Preset::Stainless304,
     ];
 
     /// The name a case uses.
@@ -40,6 +45,7 @@ impl Preset {
             Preset::Aa6060T5 => "aa6060_t5",
             Preset::Aa6061T6 => "aa6061_t6",
             Preset::MildSteel => "mild_steel",
+            Preset::Stainless304 => "stainless_304",
         }
     }
 
@@ -60,6 +66,12 @@ impl Preset {
             Preset::MildSteel => {
                 "σy = 250 MPa, E = 210 GPa, ν = 0.3, ρ = 7850 kg/m³; Cowper–Symonds D = 40.4/s, \
                  q = 5 (Jones, Structural Impact, 1989)"
+            }
+            Preset::Stainless304 => {
+                "AISI 304 annealed: σy = 205 MPa (ASTM A240 minimum), Swift K = 1400 MPa, \
+                 n = 0.44 (Callister, Fundamentals of Materials Science and Engineering, 2nd \
+                 ed., 2005, p. 199), E = 193 GPa, ν = 0.29, ρ = 8000 kg/m³; Cowper–Symonds \
+                 D = 100/s, q = 10 (Jones, Structural Impact, 1989, for stainless steel 304)"
             }
         }
     }
@@ -120,6 +132,19 @@ impl Preset {
                 rate: RateKind::CowperSymonds,
                 cowper_symonds_d_per_s: Some(40.4),
                 cowper_symonds_q: Some(5.0),
+                ..plain
+            },
+            Preset::Stainless304 => Material {
+                youngs_modulus_mpa: 193_000.0,
+                poisson_ratio: 0.29,
+                yield_stress_mpa: 205.0,
+                density_kg_m3: 8000.0,
+                hardening: HardeningKind::Swift,
+                hardening_k_mpa: Some(1400.0),
+                hardening_n: Some(0.44),
+                rate: RateKind::CowperSymonds,
+                cowper_symonds_d_per_s: Some(100.0),
+                cowper_symonds_q: Some(10.0),
                 ..plain
             },
         }

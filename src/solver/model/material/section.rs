@@ -148,7 +148,7 @@ impl Default for Material {
 pub struct MaterialInput {
     #[schemars(
         title = "Material preset",
-        description = "Fills every material field left out; empty: the paper's PVC. pvc: the paper's PVC. aa6060_t5: EN AW-6060 T5 extrusions (EN 755-2 minimum proof stress 120 MPa), perfectly plastic. aa6061_t6: Johnson & Cook's 6061-T6 (Ludwik hardening 324 + 114 εp^0.42 MPa, rate term C = 0.002). mild_steel: 250 MPa, perfectly plastic, Cowper–Symonds D = 40.4/s, q = 5. Sources: docs/materials.md."
+        description = "Fills every material field left out; empty: the paper's PVC. pvc: the paper's PVC. aa6060_t5: EN AW-6060 T5 extrusions (EN 755-2 minimum proof stress 120 MPa), perfectly plastic. aa6061_t6: Johnson & Cook's 6061-T6 (Ludwik hardening 324 + 114 εp^0.42 MPa, rate term C = 0.002). mild_steel: 250 MPa, perfectly plastic, Cowper–Symonds D = 40.4/s, q = 5. stainless_304: AISI 304 annealed, Swift hardening 1400 (ε₀ + εp)^0.44 MPa from 205 MPa, Cowper–Symonds D = 100/s, q = 10. Sources: docs/materials.md."
     )]
     pub preset: Option<Preset>,
     #[schemars(

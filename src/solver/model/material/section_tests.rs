@@ -3,6 +3,7 @@
 //! law, and every bad law is refused with its field and the reason.
 
 use super::flow::{Extrapolation, Hardening, Rate, Table};
+use super::preset::Preset;
 use super::section::{HardeningKind, RateKind};
 use super::{MaterialLaw, Metal, J2};
 use crate::solver::model::case::Case;
@@ -80,6 +81,32 @@ fn a_preset_fills_the_section_and_a_field_overrides_it() {
         (HardeningKind::Ludwik, Some(114.0), Some(0.5))
     );
     assert_eq!(m.rate, RateKind::JohnsonCook);
+}
+
+#[test]
+fn every_preset_passes_its_own_checks() {
+    for preset in Preset::ALL {
+        let c = case(&format!(r#"{{"preset": "{}"}}"#, preset.name()));
+        assert!(c.is_ok(), "{}: {:?}", preset.name(), c.err());
+    }
+}
+
+#[test]
+fn the_stainless_preset_hardens_by_swift_from_its_yield_stress() {
+    let c = case(r#"{"preset": "stainless_304"}"#).unwrap();
+    let law = MaterialLaw::of(&c.spec().material);
+    let MaterialLaw::Metal(metal) = law else {
+        panic!("stainless 304 is a hardening metal: {law:?}")
+    };
+    // σ = K (ε₀ + ε_p)ⁿ with ε₀ = (σy / K)^(1/n): σ(0) = 205 MPa, and by hand at ε_p = 0.2,
+    // ε₀ = (205 / 1400)^(1 / 0.44) = 0.012697, σ = 1400 · 0.212697^0.44 = 708.5 MPa.
+    let e0 = (205.0_f64 / 1400.0).powf(1.0 / 0.44);
+    assert!((e0 - 0.012697).abs() < 1e-5, "{e0}");
+    assert!((metal.hardening.at(0.0).0 - 205.0).abs() < 1e-9);
+    let at = metal.hardening.at(0.2).0;
+    assert!((at - 1400.0 * (e0 + 0.2).powf(0.44)).abs() < 1e-9, "{at}");
+    assert!((at - 708.5).abs() < 0.1, "{at}");
+    assert_eq!(metal.rate, Rate::cowper_symonds(100.0, 10.0));
 }
 
 #[test]
