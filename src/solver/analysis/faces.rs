@@ -22,6 +22,9 @@ pub struct FaceSlice {
     pub count: usize,
     /// Each face's mean outward displacement; None where no particle lies beside its middle.
     pub w: [Option<Real>; 4],
+    /// Each face middle's mean position along the axis now (None as for `w`): where a fold
+    /// turned the wall back on itself, it falls from one slice to the next.
+    pub along: [Option<Real>; 4],
     /// RMS of every particle's outward displacement in the slice.
     pub rms: Real,
 }
@@ -58,7 +61,8 @@ pub fn face_slices(
             *sum += v;
         }
     }
-    let mut faces = vec![([(0usize, 0.0); 4], 0.0); slices];
+    // Per face (count, Σ w, Σ position along the axis now), and Σ w² over the slice.
+    let mut faces = vec![([(0usize, 0.0, 0.0); 4], 0.0); slices];
     for (a, p) in pairs() {
         let k = slice(a);
         let (m, _, sums) = centroid[k];
@@ -67,7 +71,7 @@ pub fn face_slices(
         let (sums, squares) = &mut faces[k];
         *squares += w * w;
         if let Some(f) = section.face(a[la], a[lb]) {
-            sums[f] = (sums[f].0 + 1, sums[f].1 + w);
+            sums[f] = (sums[f].0 + 1, sums[f].1 + w, sums[f].2 + p[ax]);
         }
     }
     centroid
@@ -77,7 +81,8 @@ pub fn face_slices(
         .map(|((m, axial, ..), (sums, squares))| FaceSlice {
             axial: axial / m as Real,
             count: m,
-            w: sums.map(|(n, s)| (n > 0).then(|| s / n as Real)),
+            w: sums.map(|(n, s, _)| (n > 0).then(|| s / n as Real)),
+            along: sums.map(|(n, _, a)| (n > 0).then(|| a / n as Real)),
             rms: (squares / m as Real).sqrt(),
         })
         .collect()

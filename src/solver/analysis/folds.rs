@@ -27,8 +27,10 @@
 //! other two in (or all four out), and the next layer turns them over, so a face line shows
 //! every layer as a lobe, out or in. Its folds are counted along the middle of each face
 //! ([`super::faces`]): the bumps of the face's outward or inward displacement, with the same
-//! rise, fall and reach as a round tube's; the tube's count is the lower median over its four
-//! faces.
+//! rise, fall and reach as a round tube's, in which the wall runs back along the axis (a fold
+//! turns it back on itself; a face that only waves, as the unfolded part of a square tube
+//! does by a wall thickness or two, never does); the tube's count is the lower median over its
+//! four faces.
 //!
 //! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
@@ -94,22 +96,57 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
 }
 
 /// The folds of a rectangular tube along the middles of its faces, slices `h` thick: the lower
-/// median over the faces of the bumps of each face's displacement, out or in.
+/// median over the faces of each face's folded bumps ([`face_line_folds`]).
 fn face_folds(snapshot: &Snapshot, h: Real, section: &CrossSection) -> u32 {
     let t = section.thickness_mm();
     let slices = face_slices(snapshot, section, [2, 0, 1], h);
     let mut faces: Vec<u32> = (0..4)
         .map(|f| {
-            let line: Vec<Real> = slices
+            let line: Vec<(Real, Real)> = slices
                 .iter()
-                .filter_map(|s| s.w[f])
-                .map(Real::abs)
+                .filter_map(|s| s.w[f].zip(s.along[f]))
                 .collect();
-            count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t)
+            face_line_folds(&line, t)
         })
         .collect();
     faces.sort_unstable();
     faces[1]
+}
+
+/// The folds along one face's middle, from its (displacement, position along the axis now)
+/// per material slice, bottom to top: the bumps of |displacement| (rise, fall and reach as a
+/// round tube's) in which the wall runs back along the axis somewhere between the troughs on
+/// either side, as a fold turns it back on itself. A face of a square tube waves before it
+/// folds: the unfolded lower part of the steel tubes of docs/materials.md waves by 2 t (out
+/// and in) with its wall never past 45° from the axis, and read as two folds more than the
+/// crush holds.
+fn face_line_folds(line: &[(Real, Real)], t: Real) -> u32 {
+    let reach: Vec<Real> = line.iter().map(|(w, _)| w.abs()).collect();
+    let profile = median3(&reach);
+    let last = line.len().saturating_sub(1);
+    // The wall at slice k runs back when the face middle stands lower in the slice above than
+    // in the slice below.
+    let back: Vec<bool> = (0..line.len())
+        .map(|k| line[(k + 1).min(last)].1 < line[k.saturating_sub(1)].1)
+        .collect();
+    let mut peaks = Peaks::from_trough(0.0);
+    let troughs: Vec<usize> = profile
+        .iter()
+        .chain(std::iter::once(&0.0))
+        .filter_map(|&v| peaks.push(v, FOLD_PROMINENCE_T * t, FOLD_REACH_T * t))
+        .map(|[trough, _]| trough)
+        .collect();
+    // Each bump runs from its trough to the next one's (the last to the tube's end).
+    let ends = troughs
+        .iter()
+        .skip(1)
+        .copied()
+        .chain(std::iter::once(line.len()));
+    troughs
+        .iter()
+        .zip(ends)
+        .filter(|&(&from, to)| back[(from + 1).min(to)..to].iter().any(|&b| b))
+        .count() as u32
 }
 
 /// Per sector of the material angle, per material slice of width `h` along z (bottom to top,
@@ -333,24 +370,72 @@ mod tests {
         sign * amplitude * (PI * z / layer).sin()
     }
 
+    /// Where a fold puts the material at `z` (mm before the crush) along the axis: each
+    /// `layer` of wall rises over its first three quarters and runs back over its last, so that
+    /// it ends half a layer above where it began.
+    fn run_back(z: Real, layer: Real) -> Real {
+        let (k, u) = ((z / layer).floor(), z.rem_euclid(layer));
+        let base = 0.5 * layer * k;
+        match u < 0.75 * layer {
+            true => base + u,
+            false => base + 1.5 * layer - u,
+        }
+    }
+
+    /// The snapshot with every particle's position along the axis set by `axial` of its
+    /// position before the crush.
+    fn along(snap: Snapshot, axial: impl Fn(Real) -> Real) -> Snapshot {
+        let position_mm = snap
+            .position_mm
+            .iter()
+            .zip(&snap.initial_mm)
+            .map(|(p, a)| [p[0], p[1], axial(a[2])])
+            .collect();
+        Snapshot {
+            position_mm,
+            ..snap
+        }
+    }
+
     #[test]
     fn a_square_tubes_folds_are_its_layers_out_or_in() {
         use crate::solver::analysis::faces::tests::{deformed, square_case};
         let case = square_case();
-        // Four layers of 15 mm over the 60 mm tube, lobes of 6 mm (4 t).
-        let snap = deformed(&case, |z, f| symmetric(z, f, 15.0, 6.0), |_| [0.0; 2]);
-        assert_eq!(count_folds(&case, &snap), 4);
-        // All faces out together (extensional) over 0–20 and 40–60 mm, the wall between
-        // unmoved, the tube leaning sideways.
+        // Four folded layers of 15 mm over the 60 mm tube, lobes of 6 mm (4 t).
+        let lobes = deformed(&case, |z, f| symmetric(z, f, 15.0, 6.0), |_| [0.0; 2]);
+        let folded = along(lobes.clone(), |z| run_back(z, 15.0));
+        assert_eq!(count_folds(&case, &folded), 4);
+        // All faces out together (extensional) over 0–20 and 40–60 mm, folded, the wall
+        // between unmoved, the tube leaning sideways.
         let out = deformed(
             &case,
             |z, _| 6.0 * (PI * z / 20.0).sin().max(0.0),
             |z| [0.2 * z, 0.0],
         );
-        assert_eq!(count_folds(&case, &out), 2);
-        // Lobes of 1 mm (0.67 t) are ripples, not folds.
+        assert_eq!(count_folds(&case, &along(out, |z| run_back(z, 20.0))), 2);
+        // Lobes of 1 mm (0.67 t) are ripples, not folds, even folded.
         let ripples = deformed(&case, |z, f| symmetric(z, f, 15.0, 1.0), |_| [0.0; 2]);
-        assert_eq!(count_folds(&case, &ripples), 0);
+        assert_eq!(
+            count_folds(&case, &along(ripples, |z| run_back(z, 15.0))),
+            0
+        );
+    }
+
+    /// What broke: the square steel tubes of docs/materials.md read 4 folds where the crush
+    /// holds 2, their unfolded lower faces waving out and in by 2 t without turning back.
+    #[test]
+    fn a_square_faces_waves_that_never_turn_back_are_no_folds() {
+        use crate::solver::analysis::faces::tests::{deformed, square_case};
+        let case = square_case();
+        // Lobes of 3 mm (2 t) in four layers of 15 mm, the wall never past 45° from the axis.
+        let waves = deformed(&case, |z, f| symmetric(z, f, 15.0, 3.0), |_| [0.0; 2]);
+        assert_eq!(count_folds(&case, &waves), 0);
+        // The top two layers folded back on themselves, the bottom two only waving.
+        let top_folded = along(waves, |z| match z < 30.0 {
+            true => z,
+            false => 30.0 + run_back(z - 30.0, 15.0),
+        });
+        assert_eq!(count_folds(&case, &top_folded), 2);
     }
 
     #[test]

@@ -15,6 +15,10 @@ pub struct Peaks {
     /// trough while rising starts the rise again from there.
     from_trough: bool,
     count: u32,
+    /// Values pushed so far, and where the trough and the peak of the rise were.
+    pushed: usize,
+    trough_at: usize,
+    peak_at: usize,
 }
 
 impl Peaks {
@@ -26,6 +30,9 @@ impl Peaks {
             trough: baseline,
             from_trough: true,
             count: 0,
+            pushed: 0,
+            trough_at: 0,
+            peak_at: 0,
         }
     }
 
@@ -37,29 +44,38 @@ impl Peaks {
             trough: Real::NEG_INFINITY,
             from_trough: false,
             count: 0,
+            pushed: 0,
+            trough_at: 0,
+            peak_at: 0,
         }
     }
 
     /// The next value `v`, with the margin that counts at it; a peak below `reach` does not
-    /// count.
+    /// count. Where a peak counts, returns where (in values pushed, from 0) the trough before
+    /// it and the peak itself were.
     #[inline]
-    pub fn push(&mut self, v: Real, margin: Real, reach: Real) {
+    pub fn push(&mut self, v: Real, margin: Real, reach: Real) -> Option<[usize; 2]> {
+        let at = self.pushed;
+        self.pushed += 1;
+        let mut counted = None;
         if self.rising {
             let rose = !self.from_trough || self.peak - self.trough >= margin;
             if v > self.peak {
-                self.peak = v;
+                (self.peak, self.peak_at) = (v, at);
             } else if self.peak - v >= margin && rose && self.peak >= reach {
                 self.count += 1;
-                (self.rising, self.trough) = (false, v);
+                counted = Some([self.trough_at, self.peak_at]);
+                (self.rising, self.trough, self.trough_at) = (false, v, at);
             }
             if self.from_trough && v < self.trough {
-                (self.trough, self.peak) = (v, v);
+                (self.trough, self.peak, self.trough_at, self.peak_at) = (v, v, at, at);
             }
         } else if v < self.trough {
-            self.trough = v;
+            (self.trough, self.trough_at) = (v, at);
         } else if v - self.trough >= margin {
-            (self.rising, self.peak) = (true, v);
+            (self.rising, self.peak, self.peak_at) = (true, v, at);
         }
+        counted
     }
 
     /// Peaks counted so far.
