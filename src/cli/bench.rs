@@ -33,7 +33,7 @@ pub struct BenchArgs {
     /// Particles through the wall, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "2,4,6,8,10")]
     pub n: Vec<u32>,
-    /// Shape functions, comma-separated (linear, gimp).
+    /// Shape functions, comma-separated (linear, gimp, bspline).
     #[arg(long, value_delimiter = ',', default_value = "linear,gimp")]
     pub shape: Vec<String>,
     /// Thread counts, comma-separated.

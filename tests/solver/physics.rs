@@ -3,7 +3,7 @@
 
 use crush::solver::engine::particles::Particles;
 use crush::solver::engine::scene::{Plate, Ramp, Scene};
-use crush::solver::engine::shape::{Gimp, Linear, Stencil};
+use crush::solver::engine::shape::{Bspline, Gimp, Linear, Stencil};
 use crush::solver::engine::solid::Simulation;
 use crush::solver::model::material::{von_mises, Elastic, MaterialLaw, J2};
 use nalgebra::Vector3;
@@ -67,6 +67,11 @@ macro_rules! each_shape {
             let $shape = "gimp";
             $body
         }
+        {
+            type $S = Bspline;
+            let $shape = "bspline";
+            $body
+        }
     }};
 }
 
@@ -105,8 +110,10 @@ fn rigid_translation_gives_zero_stress() {
 /// (Jaumann) rate and D = 0 the exact answer is zero; a missing or wrong rotation term would
 /// strain the material by O(θ) and put it at yield (σ ≈ σy). FLIP–MUSL is not exact at a
 /// free surface (the node velocity there is ω × the particles' centroid, not ω × the node), so
-/// the surface rings elastically: we measured 0.8–2.4 MPa for θ from 0.02 to 0.2 rad, for
-/// both shape functions. The bound is 5 % of σy.
+/// the surface rings elastically: we measured 0.8–2.4 MPa for θ from 0.02 to 0.2 rad with
+/// linear shapes and uGIMP, and 3.5 MPa at 0.2 rad with B-splines, whose stencil reaches a
+/// node further past the surface. The bound is 5 % of σy, 8 % for B-splines: a missing rotation
+/// term is ten times either.
 #[test]
 fn rigid_rotation_gives_no_stress() {
     each_shape!(|S, shape| {
@@ -124,8 +131,9 @@ fn rigid_rotation_gives_no_stress() {
         }
         let p = &sim.state.scene.particles;
         let worst = p.stress.iter().map(von_mises).fold(0.0, f64::max);
+        let bound = if shape == "bspline" { 0.08 } else { 0.05 };
         assert!(
-            worst < 0.05 * 65.5,
+            worst < bound * 65.5,
             "{shape:?}: von Mises {worst} MPa after a rigid spin"
         );
         // and the body did turn: a particle's angle about the centre advanced by 0.2 rad

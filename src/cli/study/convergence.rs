@@ -17,7 +17,7 @@ pub struct ConvergenceArgs {
     /// Particles through the wall, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "2,3,4,6")]
     pub n: Vec<u32>,
-    /// Shape functions, comma-separated (linear, gimp).
+    /// Shape functions, comma-separated (linear, gimp, bspline).
     #[arg(long, value_delimiter = ',', default_value = "gimp")]
     pub shape: Vec<String>,
     /// Relative error of the mean load the summary reads off the cheapest run for.

@@ -182,6 +182,8 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
         s.push_str("; the error is not known (no convergence study of a rectangular tube yet)");
     } else if shape == ShapeKind::Linear {
         s.push_str("; linear shapes: the error is not known (they do not converge on thin walls)");
+    } else if shape == ShapeKind::Bspline {
+        s.push_str("; B-splines: the error is not known (no error table yet)");
     }
     s
 }

@@ -100,14 +100,17 @@ pub fn thread_gain(model: Model, threads: u32) -> f64 {
 /// The one-thread rate assumed where none was measured, particle-steps/s. 3D: docs/validation.md
 /// §1 measured 13.2–14.6 M on two threads for uGIMP from n = 4 to 10 and 20.6 M for linear shapes
 /// at n = 8; the section: `crush bench-one` on the axisymmetric paper case measured 4.4 M
-/// (uGIMP) and 6.6 M (linear) on one thread at n = 16. Rounded down to allow for a shared
-/// machine.
+/// (uGIMP) and 6.6 M (linear) on one thread at n = 16; B-splines (docs/folding.md §4) 2.7 M in 3D
+/// (the d = 10 tube at n = 3) and 5.5–6.4 M in the section, one thread each beside another run.
+/// Rounded down to allow for a shared machine.
 fn assumed_one_thread(model: Model, shape: ShapeKind) -> f64 {
     match (model, shape) {
         (Model::ThreeD, ShapeKind::Gimp) => 6.0e6,
         (Model::ThreeD, ShapeKind::Linear) => 9.0e6,
         (_, ShapeKind::Gimp) => 3.5e6,
         (_, ShapeKind::Linear) => 5.0e6,
+        (Model::ThreeD, ShapeKind::Bspline) => 2.5e6,
+        (_, ShapeKind::Bspline) => 3.5e6,
     }
 }
 

@@ -10,7 +10,7 @@ use super::kernel::{Engine, SolveError};
 use super::observer::{Observer, Progress};
 use super::scene::{Scene, BOTTOM, TOP};
 use super::section::{Section, Symmetry};
-use super::shape::{Gimp, Linear};
+use super::shape::{Bspline, Gimp, Linear};
 use super::solid::Simulation;
 use crate::solver::model::case::Case;
 use crate::solver::model::case::{Model, ShapeKind};
@@ -283,5 +283,7 @@ pub fn simulate<D: Driver>(model: Model, shape: ShapeKind, scene: Scene, driver:
         (None, ShapeKind::Gimp) => driver.drive(Simulation::<Gimp>::new(scene)),
         (Some(sym), ShapeKind::Linear) => driver.drive(Section::<Linear>::new(scene, sym)),
         (Some(sym), ShapeKind::Gimp) => driver.drive(Section::<Gimp>::new(scene, sym)),
+        (None, ShapeKind::Bspline) => driver.drive(Simulation::<Bspline>::new(scene)),
+        (Some(sym), ShapeKind::Bspline) => driver.drive(Section::<Bspline>::new(scene, sym)),
     }
 }

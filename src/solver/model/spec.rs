@@ -214,6 +214,8 @@ pub enum ShapeKind {
     Linear,
     /// Uniform GIMP: the particle is a box of side h that never changes.
     Gimp,
+    /// Quadratic B-splines: no cell-crossing error, three nodes per axis.
+    Bspline,
 }
 
 impl ShapeKind {
@@ -222,6 +224,7 @@ impl ShapeKind {
         match self {
             ShapeKind::Linear => "linear",
             ShapeKind::Gimp => "gimp",
+            ShapeKind::Bspline => "bspline",
         }
     }
 }

@@ -159,10 +159,14 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
 }
 
 #[test]
-fn linear_shapes_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
+fn linear_shapes_b_splines_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
     let ring = summary(1.0, CollapseMode::Ring);
     let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
     assert!(ladder(&linear, &ring).unwrap_err().contains("linear"));
+    let bspline = case(r#"{"discretization": {"shape": "bspline"}}"#);
+    assert!(ladder(&bspline, &ring)
+        .unwrap_err()
+        .contains("B-splines have no error table"));
     let diamond = summary(1.0, CollapseMode::Diamond { lobes: 3 });
     let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
     assert!(ladder(&gimp, &diamond).unwrap_err().contains("diamond"));
