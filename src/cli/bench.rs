@@ -293,7 +293,7 @@ fn run_child(
 fn print_row(row: &Row, header: bool) {
     if header {
         println!(
-            "{:<6} {:>3} {:>9} {:>3} {:>10} {:>10} {:>7} | {:>5} {:>5} {:>5} {:>5} {:>6} | {:>9} {:>9}",
+            "{:<7} {:>3} {:>9} {:>3} {:>10} {:>10} {:>7} | {:>5} {:>5} {:>5} {:>5} {:>6} | {:>9} {:>9}",
             "shape", "n", "particles", "thr", "Mp-steps/s", "min–max", "ns/p-s",
             "bin%", "p2g%", "grid%", "g2p%", "stress%", "B/p peak", "B/p arrays"
         );
@@ -316,7 +316,7 @@ fn print_row(row: &Row, header: bool) {
         "n/a".into()
     };
     println!(
-        "{:<6} {:>3} {:>9} {:>3} {:>10.2} {:>10} {:>7.0} | {:>5.1} {:>5.1} {:>5.1} {:>5.1} {:>6.1} | {:>9} {:>9.0}",
+        "{:<7} {:>3} {:>9} {:>3} {:>10.2} {:>10} {:>7.0} | {:>5.1} {:>5.1} {:>5.1} {:>5.1} {:>6.1} | {:>9} {:>9.0}",
         row.shape,
         row.n,
         row.samples[0].particles,
@@ -354,7 +354,7 @@ fn print_scaling(rows: &[Row]) {
             .find(|r| r.threads == hi && r.shape == a.shape && r.n == a.n)
         {
             println!(
-                "  {:<6} n {:>2}: {:.2}×",
+                "  {:<7} n {:>2}: {:.2}×",
                 a.shape,
                 a.n,
                 b.median_by(Sample::rate) / a.median_by(Sample::rate)
