@@ -403,7 +403,7 @@ mod tests {
         let case = square_case();
         // Four folded layers of 15 mm over the 60 mm tube, lobes of 6 mm (4 t).
         let lobes = deformed(&case, |z, f| symmetric(z, f, 15.0, 6.0), |_| [0.0; 2]);
-        let folded = along(lobes.clone(), |z| run_back(z, 15.0));
+        let folded = along(lobes, |z| run_back(z, 15.0));
         assert_eq!(count_folds(&case, &folded), 4);
         // All faces out together (extensional) over 0–20 and 40–60 mm, folded, the wall
         // between unmoved, the tube leaning sideways.
