@@ -134,7 +134,6 @@ fn face_line_folds(line: &[(Real, Real)], t: Real) -> u32 {
         .iter()
         .chain(std::iter::once(&0.0))
         .filter_map(|&v| peaks.push(v, FOLD_PROMINENCE_T * t, FOLD_REACH_T * t))
-        .map(|[trough, _]| trough)
         .collect();
     // Each bump runs from its trough to the next one's (the last to the tube's end).
     let ends = troughs

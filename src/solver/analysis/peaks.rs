@@ -15,10 +15,9 @@ pub struct Peaks {
     /// trough while rising starts the rise again from there.
     from_trough: bool,
     count: u32,
-    /// Values pushed so far, and where the trough and the peak of the rise were.
+    /// Values pushed so far, and where the trough before the rise was.
     pushed: usize,
     trough_at: usize,
-    peak_at: usize,
 }
 
 impl Peaks {
@@ -32,7 +31,6 @@ impl Peaks {
             count: 0,
             pushed: 0,
             trough_at: 0,
-            peak_at: 0,
         }
     }
 
@@ -46,34 +44,33 @@ impl Peaks {
             count: 0,
             pushed: 0,
             trough_at: 0,
-            peak_at: 0,
         }
     }
 
     /// The next value `v`, with the margin that counts at it; a peak below `reach` does not
     /// count. Where a peak counts, returns where (in values pushed, from 0) the trough before
-    /// it and the peak itself were.
+    /// it was.
     #[inline]
-    pub fn push(&mut self, v: Real, margin: Real, reach: Real) -> Option<[usize; 2]> {
+    pub fn push(&mut self, v: Real, margin: Real, reach: Real) -> Option<usize> {
         let at = self.pushed;
         self.pushed += 1;
         let mut counted = None;
         if self.rising {
             let rose = !self.from_trough || self.peak - self.trough >= margin;
             if v > self.peak {
-                (self.peak, self.peak_at) = (v, at);
+                self.peak = v;
             } else if self.peak - v >= margin && rose && self.peak >= reach {
                 self.count += 1;
-                counted = Some([self.trough_at, self.peak_at]);
+                counted = Some(self.trough_at);
                 (self.rising, self.trough, self.trough_at) = (false, v, at);
             }
             if self.from_trough && v < self.trough {
-                (self.trough, self.peak, self.trough_at, self.peak_at) = (v, v, at, at);
+                (self.trough, self.peak, self.trough_at) = (v, v, at);
             }
         } else if v < self.trough {
             (self.trough, self.trough_at) = (v, at);
         } else if v - self.trough >= margin {
-            (self.rising, self.peak, self.peak_at) = (true, v, at);
+            (self.rising, self.peak) = (true, v);
         }
         counted
     }

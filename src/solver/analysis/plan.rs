@@ -180,10 +180,16 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
     }
     if spec.tube.section == Section::Rectangular {
         s.push_str("; the error is not known (no convergence study of a rectangular tube yet)");
-    } else if shape == ShapeKind::Linear {
-        s.push_str("; linear shapes: the error is not known (they do not converge on thin walls)");
-    } else if shape == ShapeKind::Bspline {
-        s.push_str("; B-splines: the error is not known (no error table yet)");
+    } else {
+        match shape {
+            ShapeKind::Linear => s.push_str(
+                "; linear shapes: the error is not known (they do not converge on thin walls)",
+            ),
+            ShapeKind::Bspline => {
+                s.push_str("; B-splines: the error is not known (no error table yet)")
+            }
+            ShapeKind::Gimp => {}
+        }
     }
     s
 }
