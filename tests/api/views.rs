@@ -62,11 +62,25 @@ async fn downloaded(c: &Client, css: &str, dir: &std::path::Path, name: &str) ->
     click(c, css).await;
     let path = dir.join(name);
     let deadline = std::time::Instant::now() + LONG;
+    let mut last: Option<String> = None;
     loop {
-        // Chromium writes a `.crdownload` file and renames it when the download is complete.
-        if let Ok(text) = std::fs::read_to_string(&path) {
-            return text;
+        // Chromium writes a `.crdownload` file and renames it when the download is complete,
+        // but it may also create the final name empty first: a download is done when its file
+        // is not empty, no `.crdownload` is left beside it, and two reads 50 ms apart agree.
+        let pending = std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .any(|e| e.file_name().to_string_lossy().ends_with(".crdownload"))
+            })
+            .unwrap_or(true);
+        let text = std::fs::read_to_string(&path).ok();
+        if let Some(text) = text.as_ref().filter(|t| !t.is_empty() && !pending) {
+            if last.as_ref() == Some(text) {
+                return text.clone();
+            }
         }
+        last = text;
         assert!(
             std::time::Instant::now() < deadline,
             "{name} was not downloaded"
