@@ -219,17 +219,23 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         let _ = writeln!(
             o,
             "  a fold takes 2H = {:.1} mm of tube and {:.1} mm of crush (Wierzbicki-Abramowicz, \
-             Abramowicz-Jones)",
+             Abramowicz-Jones); flow stress {:.1} MPa",
             2.0 * r.half_fold_length_mm,
-            r.effective_crush_per_fold_mm
+            r.effective_crush_per_fold_mm,
+            r.flow_stress_mpa
         );
     }
     if let References::Round(r) = r {
         let m = &r.metal;
         let _ = writeln!(
             o,
-            "  (metal forms: flow stress {:.1} MPa, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
-            m.flow_stress_mpa, m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
+            "  (metal forms: flow stress {:.1} MPa = (yield {:.1} + ultimate {:.1})/2, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
+            m.flow_stress_mpa,
+            m.yield_stress_mpa,
+            m.ultimate_stress_mpa,
+            m.fold_wavelength_mm,
+            m.strain_rate_per_s,
+            m.rate_factor
         );
     }
     let _ = writeln!(o);

@@ -7,8 +7,11 @@
 //! The round metal tube's axial references ([`MetalTube`]): Abramowicz & Jones's modified
 //! Alexander with the effective crushing distance, and Guillow, Lu & Grzebieta's empirical fit
 //! for 6060-T5, each static and with the rate law's factor at the wall's mean strain rate V/(4R)
-//! where the material names a rate law. Both take the flow stress σ0 to be the case's yield
-//! stress σy (the static flow stress at zero plastic strain).
+//! where the material names a rate law.
+//!
+//! Every closed form here takes the wall's flow stress σ0 = (σy + σu)/2
+//! ([`Material::flow_stress_mpa`]), σu the engineering ultimate stress of the static hardening
+//! curve: σy for a perfectly plastic wall such as the paper's PVC.
 //!
 //! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
 //! Jones).
@@ -18,6 +21,8 @@ pub mod rectangular;
 pub use rectangular::RectangularReferences;
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
+#[cfg(doc)]
+use crate::solver::model::material::section::Material;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -137,10 +142,8 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
     let spec = case.spec();
     let geometry = case.geometry();
     let l = geometry.length_mm;
-    let (sy, e) = (
-        spec.material.yield_stress_mpa,
-        spec.material.youngs_modulus_mpa,
-    );
+    let sy = spec.material.flow_stress_mpa();
+    let e = spec.material.youngs_modulus_mpa;
     let u = case.crush_distance_mm();
 
     let alexander_ring_n = alexander_ring(t, d, sy);
@@ -154,7 +157,11 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
     let metal = MetalTube::of(
         t,
         d,
-        sy,
+        Stresses {
+            flow: sy,
+            yield_stress: spec.material.yield_stress_mpa,
+            ultimate: spec.material.ultimate_stress_mpa(),
+        },
         spec.material.rate_factor(strain_rate_per_s),
         strain_rate_per_s,
         spec.material.rate != crate::solver::model::spec::RateKind::None,
@@ -182,8 +189,15 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
 /// a rate law (`None` otherwise). N, mm, 1/s.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct MetalTube {
-    /// The flow stress σ0 both take: the case's yield stress, MPa.
+    /// The flow stress σ0 both take, (σy + σu)/2, MPa.
     pub flow_stress_mpa: f64,
+    /// The yield stress σy, MPa (absent from summaries stored before it: 0).
+    #[serde(default)]
+    pub yield_stress_mpa: f64,
+    /// The engineering ultimate stress σu of the static hardening curve, where a bar of it
+    /// necks, MPa (absent from summaries stored before it: 0).
+    #[serde(default)]
+    pub ultimate_stress_mpa: f64,
     /// Abramowicz & Jones (1984): P = M0 (22.27 √(D/t) + 5.632) / (0.86 − 0.568 √(t/D)),
     /// M0 = (2/√3) σ0 t²/4: Alexander's ring mode with the fold's eccentricity, over the
     /// effective crushing distance δe/2H = 0.86 − 0.568 √(t/D), N.
@@ -206,22 +220,25 @@ pub struct MetalTube {
 }
 
 impl MetalTube {
-    /// Of the wall t, the mean diameter d (mm), the flow stress σ0 (MPa), the rate factor at
-    /// the mean strain rate and whether the material has a rate law.
+    /// Of the wall t, the mean diameter d (mm), the wall's stresses, the rate factor at the
+    /// mean strain rate and whether the material has a rate law.
     pub fn of(
         t: f64,
         d: f64,
-        sigma0: f64,
+        stresses: Stresses,
         rate_factor: f64,
         strain_rate_per_s: f64,
         rate_law: bool,
     ) -> MetalTube {
+        let sigma0 = stresses.flow;
         let abramowicz_jones_n = abramowicz_jones(t, d, sigma0);
         let guillow_n = guillow(t, d, sigma0);
         let dynamic = |p: f64| rate_law.then_some(p * rate_factor);
         let d_over_t = d / t;
         MetalTube {
             flow_stress_mpa: sigma0,
+            yield_stress_mpa: stresses.yield_stress,
+            ultimate_stress_mpa: stresses.ultimate,
             abramowicz_jones_n,
             abramowicz_jones_dynamic_n: dynamic(abramowicz_jones_n),
             guillow_n,
@@ -232,6 +249,15 @@ impl MetalTube {
             rate_factor,
         }
     }
+}
+
+/// A wall's stresses, MPa: the flow stress σ0 the closed forms take, and the yield and
+/// ultimate stresses it is the mean of.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stresses {
+    pub flow: f64,
+    pub yield_stress: f64,
+    pub ultimate: f64,
 }
 
 /// Abramowicz & Jones's modified Alexander with the effective crushing distance, N.
@@ -402,6 +428,41 @@ mod tests {
             (None, 1.0)
         );
         assert!(!pvc.guillow_in_range, "d/t 6.9");
+    }
+
+    /// A hardening wall's closed forms take (σy + σu)/2, a perfectly plastic one's σy.
+    /// Stainless 304 (Swift K 1400, n 0.44 from σy 205): necks at ε₀ + ε_p = n, σu = 636.3 MPa
+    /// engineering (by hand in the hardening law's tests), σ₀ = 420.65 MPa.
+    #[test]
+    fn a_hardening_wall_s_closed_forms_take_the_mean_of_yield_and_ultimate() {
+        let stainless = Case::from_json(
+            r#"{"material": {"preset": "stainless_304"},
+                "tube": {"thickness_mm": 1.5, "mean_diameter_mm": 50, "length_mm": 100}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        let r = round_of(&stainless);
+        let m = r.metal;
+        assert_eq!(m.yield_stress_mpa, 205.0);
+        close(m.ultimate_stress_mpa, 636.3, 1e-4);
+        close(m.flow_stress_mpa, 420.65, 1e-4);
+        close(
+            m.abramowicz_jones_n,
+            abramowicz_jones(1.5, 50.0, 420.65),
+            1e-4,
+        );
+        close(m.guillow_n, guillow(1.5, 50.0, 420.65), 1e-4);
+        close(r.alexander_ring_n, alexander_ring(1.5, 50.0, 420.65), 1e-4);
+        let pvc = round_of(&Case::from_json("{}", &Limits::default()).unwrap());
+        assert_eq!(
+            (
+                pvc.metal.flow_stress_mpa,
+                pvc.metal.yield_stress_mpa,
+                pvc.metal.ultimate_stress_mpa
+            ),
+            (65.5, 65.5, 65.5)
+        );
+        close(pvc.alexander_ring_n, alexander_ring(3.2, 22.2, 65.5), 1e-12);
     }
 
     /// A round case's references.

@@ -43,7 +43,7 @@ pub const STRAIN_RATE_FACTOR: f64 = 0.33;
 pub struct RectangularReferences {
     /// The side c of the theories' square: (a + b)/2, mm.
     pub mean_side_mm: f64,
-    /// σ₀, MPa.
+    /// σ₀ = (σy + σu)/2, as for a round tube, MPa.
     pub flow_stress_mpa: f64,
     /// Wierzbicki & Abramowicz (1983): 9.56 σ₀ t^(5/3) c^(1/3), N.
     pub wierzbicki_abramowicz_n: f64,
@@ -72,8 +72,8 @@ pub fn references(case: &Case, section: &Rectangle) -> RectangularReferences {
     let spec = case.spec();
     let t = section.thickness_mm;
     let c = 0.5 * (section.side_a_mm + section.side_b_mm);
-    // σ₀: the static flow stress at zero plastic strain, as for a round metal tube.
-    let sigma = spec.material.yield_stress_mpa;
+    // σ₀: the wall's flow stress, as for a round metal tube.
+    let sigma = spec.material.flow_stress_mpa();
     let half_fold = half_fold_length(t, c);
     // V in m/s is mm/ms: 1000 V / c per second.
     let strain_rate = STRAIN_RATE_FACTOR * 1000.0 * spec.loading.plate_speed_m_s / c;
@@ -174,5 +174,23 @@ mod tests {
         };
         assert_eq!(r.mean_side_mm, 50.0);
         assert_eq!((r.primary, r.primary_n), (Primary::Unavailable, 0.0));
+    }
+
+    /// A hardening wall's square forms take (σy + σu)/2: stainless 304's Swift law necks at
+    /// 636.3 MPa (engineering), so σ₀ = (205 + 636.3)/2 = 420.65 MPa.
+    #[test]
+    fn a_hardening_square_tube_s_forms_take_the_mean_of_yield_and_ultimate() {
+        let case = Case::from_json(
+            r#"{"material": {"preset": "stainless_304", "rate": "none"},
+                "tube": {"section": "rectangular", "side_a_mm": 50, "thickness_mm": 1.5,
+                         "length_mm": 100}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        let References::Rectangular(r) = super::super::references(&case) else {
+            panic!("a rectangular case has rectangular references")
+        };
+        close(r.flow_stress_mpa, 420.65, 1e-4);
+        close(r.abramowicz_jones_n, 6_194.3 * 420.65 / 65.5, 1e-4);
     }
 }

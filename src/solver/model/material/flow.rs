@@ -127,6 +127,50 @@ impl Hardening {
     }
 }
 
+/// The largest plastic strain [`Hardening::necking_strain`] looks to.
+pub const NECKING_SEARCH_LIMIT: Real = 5.0;
+
+impl Hardening {
+    /// The plastic strain at which a bar of this curve necks in tension: the first ε_p in
+    /// [0, [`NECKING_SEARCH_LIMIT`]] where the hardening slope has fallen to the stress,
+    /// dσ/dε_p ≤ σ (Considère's criterion, reading the true strain as ε_p, the elastic strain
+    /// left out); the limit itself if the curve hardens faster than that all the way there.
+    /// 0 for a perfectly plastic curve.
+    pub fn necking_strain(&self) -> Real {
+        let necked = |e: Real| {
+            let (stress, slope) = self.at(e);
+            slope <= stress
+        };
+        if necked(0.0) {
+            return 0.0;
+        }
+        // A scan to bracket the first crossing, then bisection within the bracket.
+        const STEP: Real = 1e-4;
+        let steps = (NECKING_SEARCH_LIMIT / STEP) as usize;
+        let Some(k) = (1..=steps).find(|&k| necked(k as Real * STEP)) else {
+            return NECKING_SEARCH_LIMIT;
+        };
+        let (mut lo, mut hi) = ((k - 1) as Real * STEP, k as Real * STEP);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if necked(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    }
+
+    /// The engineering ultimate tensile stress, MPa: the true stress at the necking strain ε_u
+    /// over the bar's stretch e^(ε_u). At least σy (the engineering stress rises until the bar
+    /// necks); σy for a perfectly plastic curve.
+    pub fn ultimate_tensile_stress(&self) -> Real {
+        let e = self.necking_strain();
+        self.at(e).0 * (-e).exp()
+    }
+}
+
 /// The factor R(ε̇_p) ≥ 1 on the static flow stress, of the equivalent plastic strain rate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Rate {
@@ -216,6 +260,65 @@ mod tests {
         };
         assert_eq!(ludwik.at(0.0).0, 324.0);
         assert!((ludwik.at(1.0).0 - 438.0).abs() < 1e-12);
+    }
+
+    /// Swift's law necks where ε₀ + ε_p = n (dσ/dε = n σ / (ε₀ + ε_p) = σ): true stress K nⁿ,
+    /// engineering stress K nⁿ e^(−(n − ε₀)).
+    #[test]
+    fn swift_necks_where_its_strain_equals_its_exponent() {
+        let law = Hardening::swift(205.0, 1400.0, 0.44);
+        let Hardening::Swift { e0, .. } = law else {
+            unreachable!()
+        };
+        let eu = law.necking_strain();
+        assert!((eu - (0.44 - e0)).abs() < 1e-9, "{eu}");
+        let uts = 1400.0 * 0.44f64.powf(0.44) * (-(0.44 - e0)).exp();
+        assert!((law.ultimate_tensile_stress() - uts).abs() < 1e-6);
+        // By hand: 0.44^0.44 = e^(0.44 ln 0.44) = e^(−0.36123) = 0.69677; 1400 · 0.69677 = 975.5
+        // MPa true; ε₀ = (205/1400)^(1/0.44) = 0.012697, e^(−0.427303) = 0.65226: 636.3 MPa.
+        assert!((law.ultimate_tensile_stress() - 636.3).abs() < 0.1);
+    }
+
+    #[test]
+    fn a_curve_that_does_not_harden_necks_at_once_at_its_yield_stress() {
+        let flat = Hardening::Table(Table::new(&[[0.0, 250.0]], Extrapolation::Flat));
+        assert_eq!(flat.necking_strain(), 0.0);
+        assert_eq!(flat.ultimate_tensile_stress(), 250.0);
+    }
+
+    /// A table necks at the first point past which its segment's slope is at most the stress,
+    /// or within a segment where the stress climbs to the slope.
+    #[test]
+    fn a_table_necks_where_its_slope_falls_to_its_stress() {
+        // Slope 1000 up to 0.1 (stress 100 → 200), then 150 < 200: necks at 0.1.
+        let t = Table::new(
+            &[[0.0, 100.0], [0.1, 200.0], [0.3, 230.0]],
+            Extrapolation::Flat,
+        );
+        let h = Hardening::Table(t);
+        assert!((h.necking_strain() - 0.1).abs() < 1e-9);
+        assert!((h.ultimate_tensile_stress() - 200.0 * (-0.1f64).exp()).abs() < 1e-6);
+        // One segment of slope 300 from 100 MPa, extrapolated by that slope: σ = 100 + 300 ε
+        // reaches 300 at ε = 2/3.
+        let t = Table::new(&[[0.0, 100.0], [0.5, 250.0]], Extrapolation::LastSlope);
+        assert!((Hardening::Table(t).necking_strain() - 2.0 / 3.0).abs() < 1e-9);
+    }
+
+    /// Ludwik's law necks where K n ε^(n−1) = σy + K εⁿ; the root is checked by putting it back.
+    #[test]
+    fn ludwik_necks_where_its_slope_meets_its_stress() {
+        let h = Hardening::Ludwik {
+            yield_stress: 324.0,
+            k: 114.0,
+            n: 0.42,
+        };
+        let e = h.necking_strain();
+        let (s, slope) = h.at(e);
+        assert!((slope - s).abs() < 1e-6 * s, "{e}: {slope} against {s}");
+        assert!(e > 0.03 && e < 0.035, "{e}");
+        // Swift of exponent 10 has ε₀ + ε_p < n all the way to the search's end: no neck there.
+        let steep = Hardening::swift(100.0, 200.0, 10.0);
+        assert_eq!(steep.necking_strain(), NECKING_SEARCH_LIMIT);
     }
 
     #[test]

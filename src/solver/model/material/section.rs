@@ -307,6 +307,19 @@ impl Material {
         self.hardening_law().at(strain).0
     }
 
+    /// The engineering ultimate tensile stress σu of the static curve, MPa (where a bar of it
+    /// necks: [`Hardening::ultimate_tensile_stress`]); σy for a perfectly plastic wall.
+    pub fn ultimate_stress_mpa(&self) -> f64 {
+        self.hardening_law().ultimate_tensile_stress()
+    }
+
+    /// The flow stress σ0 the closed forms take: the mean of the yield and ultimate stresses,
+    /// (σy + σu)/2, the usual choice for a hardening wall in the crush literature; σy for a
+    /// perfectly plastic one.
+    pub fn flow_stress_mpa(&self) -> f64 {
+        0.5 * (self.yield_stress_mpa + self.ultimate_stress_mpa())
+    }
+
     /// The rate factor R ≥ 1 at the equivalent plastic strain rate `rate_per_s` (1/s).
     pub fn rate_factor(&self, rate_per_s: f64) -> f64 {
         self.rate_law().at(rate_per_s * 1e-3).0
