@@ -163,7 +163,8 @@ pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusa
         if trigger.weak_fraction <= 0.0 && !swept {
             return Err(Refusal::Invalid(vec![fail(
                 "ensemble",
-                "needs a trigger: base.trigger.weak_fraction must be > 0, or every seed gives                  the same run",
+                "needs a trigger: base.trigger.weak_fraction must be > 0, or every seed gives \
+                the same run",
             )]));
         }
         let seeds = (0..e.seeds).map(|k| Value::from(trigger.seed.saturating_add(k)));
@@ -592,7 +593,11 @@ mod tests {
     #[test]
     fn an_ensemble_without_a_trigger_or_with_too_few_or_too_many_seeds_is_refused() {
         let untriggered = json!({"base": {}, "ensemble": {"seeds": 3}});
-        assert_eq!(refusal(untriggered, 100)[0].field, "ensemble");
+        let errors = refusal(untriggered, 100);
+        assert_eq!(errors[0].field, "ensemble");
+        // One sentence, its words one space apart (a line break in the source once carried
+        // its indentation into the reason).
+        assert!(!errors[0].reason.contains("  "), "{errors:?}");
         let triggered = json!({"trigger": {"weak_fraction": 0.003}});
         let one = json!({"base": triggered, "ensemble": {"seeds": 1}});
         assert_eq!(refusal(one, 100)[0].field, "ensemble.seeds");

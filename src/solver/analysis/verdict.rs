@@ -210,7 +210,9 @@ pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
         reasons.push(Reason {
             rule: Rule::TippedOver,
             level: Level::NotTrusted,
-            detail: "the tube tipped over: an end left its plate while the tube stayed                      straight, a rigid rotation rather than a collapse; its mean load says                      nothing of the tube (plates with friction hold the ends: docs/folding.md)"
+            detail: "the tube tipped over: an end left its plate while the tube stayed \
+                straight, a rigid rotation rather than a collapse; its mean load says \
+                nothing of the tube (plates with friction hold the ends: docs/folding.md)"
                 .into(),
         });
     }
@@ -219,7 +221,8 @@ pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
             rule: Rule::Unloaded,
             level: Level::NotTrusted,
             detail: format!(
-                "the load stayed under 1 % of its peak over {:.1} mm of plate travel: the                  tube was not held between the plates there",
+                "the load stayed under 1 % of its peak over {:.1} mm of plate travel: the \
+                tube was not held between the plates there",
                 summary.longest_unloaded_mm
             ),
         });

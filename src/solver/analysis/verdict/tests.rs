@@ -187,3 +187,19 @@ fn a_tube_that_tipped_over_or_floated_between_the_plates_is_not_trusted() {
         v.reasons[0].detail
     );
 }
+
+/// Every reason reads as one sentence: a message broken over source lines without a line
+/// continuation carried the next line's indentation into the text ("stayed
+/// straight" with 22 spaces between).
+#[test]
+fn a_reason_s_words_are_one_space_apart() {
+    let c = case("{}");
+    let mut s = summary(0.9, 0.9);
+    s.mode = CollapseMode::TippedOver;
+    s.longest_unloaded_mm = 20.5;
+    let v = of_run(&c, &s);
+    assert!(v.reasons.len() >= 3, "{:?}", v.reasons);
+    for r in v.reasons.iter().chain(foreseen(&c).iter()) {
+        assert!(!r.detail.contains("  "), "{:?}: {:?}", r.rule, r.detail);
+    }
+}
