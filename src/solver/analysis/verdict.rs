@@ -233,10 +233,14 @@ pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
             rule: Rule::EnergyBalance,
             level,
             detail: format!(
-                "the energy books close to {:.1} % of the plates' work (over {:.0} % is {})",
+                "the energy books close to {:.1} % of the plates' work (over {:.0} % is {}); \
+                 their error is mostly the time step's, first order in it: \
+                 discretization.cfl {} (half the case's) roughly halves it at twice the steps \
+                 (docs/folding.md §5)",
                 100.0 * e,
                 100.0 * over,
-                level.name().replace('_', " ")
+                level.name().replace('_', " "),
+                0.5 * case.spec().discretization.cfl
             ),
         });
     }

@@ -97,6 +97,29 @@ fn the_energy_balance_is_caution_above_2_percent_and_not_trusted_above_5() {
     assert_eq!(level(0.051), Some(Level::NotTrusted));
 }
 
+/// The books' error on a crush is mostly first order in the time step (docs/folding.md §5):
+/// the reason names the step that roughly halves it, half the case's own.
+#[test]
+fn an_energy_reason_names_half_the_case_s_time_step() {
+    for (json, half) in [
+        ("{}", "0.25"),
+        (r#"{"discretization": {"cfl": 0.3}}"#, "0.15"),
+    ] {
+        let c = case(json);
+        let v = of_run(&c, &summary(0.03, 0.0));
+        let r = v
+            .reasons
+            .iter()
+            .find(|r| r.rule == Rule::EnergyBalance)
+            .expect("a 3 % balance is a reason");
+        assert!(
+            r.detail.contains(&format!("discretization.cfl {half} ")),
+            "{json}: {}",
+            r.detail
+        );
+    }
+}
+
 #[test]
 fn kinetic_energy_above_5_percent_of_the_internal_is_not_quasi_static() {
     let c = case("{}");
