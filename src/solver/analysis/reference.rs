@@ -10,8 +10,8 @@
 //! where the material names a rate law.
 //!
 //! Every closed form here takes the wall's flow stress σ0 = (σy + σu)/2
-//! ([`Material::flow_stress_mpa`]), σu the engineering ultimate stress of the static hardening
-//! curve: σy for a perfectly plastic wall such as the paper's PVC.
+//! ([`FlowStresses::flow`]), σu the engineering ultimate stress of the static hardening curve:
+//! σy for a perfectly plastic wall such as the paper's PVC.
 //!
 //! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
 //! Jones).
@@ -21,8 +21,7 @@ pub mod rectangular;
 pub use rectangular::RectangularReferences;
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
-#[cfg(doc)]
-use crate::solver::model::material::section::Material;
+use crate::solver::model::material::section::FlowStresses;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -142,7 +141,8 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
     let spec = case.spec();
     let geometry = case.geometry();
     let l = geometry.length_mm;
-    let sy = spec.material.flow_stress_mpa();
+    let stresses = spec.material.flow_stresses();
+    let sy = stresses.flow();
     let e = spec.material.youngs_modulus_mpa;
     let u = case.crush_distance_mm();
 
@@ -157,11 +157,7 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
     let metal = MetalTube::of(
         t,
         d,
-        Stresses {
-            flow: sy,
-            yield_stress: spec.material.yield_stress_mpa,
-            ultimate: spec.material.ultimate_stress_mpa(),
-        },
+        stresses,
         spec.material.rate_factor(strain_rate_per_s),
         strain_rate_per_s,
         spec.material.rate != crate::solver::model::spec::RateKind::None,
@@ -225,12 +221,12 @@ impl MetalTube {
     pub fn of(
         t: f64,
         d: f64,
-        stresses: Stresses,
+        stresses: FlowStresses,
         rate_factor: f64,
         strain_rate_per_s: f64,
         rate_law: bool,
     ) -> MetalTube {
-        let sigma0 = stresses.flow;
+        let sigma0 = stresses.flow();
         let abramowicz_jones_n = abramowicz_jones(t, d, sigma0);
         let guillow_n = guillow(t, d, sigma0);
         let dynamic = |p: f64| rate_law.then_some(p * rate_factor);
@@ -249,15 +245,6 @@ impl MetalTube {
             rate_factor,
         }
     }
-}
-
-/// A wall's stresses, MPa: the flow stress σ0 the closed forms take, and the yield and
-/// ultimate stresses it is the mean of.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Stresses {
-    pub flow: f64,
-    pub yield_stress: f64,
-    pub ultimate: f64,
 }
 
 /// Abramowicz & Jones's modified Alexander with the effective crushing distance, N.

@@ -73,7 +73,7 @@ pub fn references(case: &Case, section: &Rectangle) -> RectangularReferences {
     let t = section.thickness_mm;
     let c = 0.5 * (section.side_a_mm + section.side_b_mm);
     // σ₀: the wall's flow stress, as for a round metal tube.
-    let sigma = spec.material.flow_stress_mpa();
+    let sigma = spec.material.flow_stresses().flow();
     let half_fold = half_fold_length(t, c);
     // V in m/s is mm/ms: 1000 V / c per second.
     let strain_rate = STRAIN_RATE_FACTOR * 1000.0 * spec.loading.plate_speed_m_s / c;

@@ -262,6 +262,22 @@ impl From<MaterialInput> for Material {
     }
 }
 
+/// A wall's yield stress σy and engineering ultimate stress σu (σy for a perfectly plastic
+/// wall), MPa.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowStresses {
+    pub yield_stress: f64,
+    pub ultimate: f64,
+}
+
+impl FlowStresses {
+    /// The flow stress σ0 the closed forms take: (σy + σu)/2, the usual choice for a hardening
+    /// wall in the crush literature; σy for a perfectly plastic one.
+    pub fn flow(&self) -> f64 {
+        0.5 * (self.yield_stress + self.ultimate)
+    }
+}
+
 impl Material {
     /// The static hardening law of a checked section (a constant yield stress for `none`).
     pub fn hardening_law(&self) -> Hardening {
@@ -307,17 +323,14 @@ impl Material {
         self.hardening_law().at(strain).0
     }
 
-    /// The engineering ultimate tensile stress σu of the static curve, MPa (where a bar of it
-    /// necks: [`Hardening::ultimate_tensile_stress`]); σy for a perfectly plastic wall.
-    pub fn ultimate_stress_mpa(&self) -> f64 {
-        self.hardening_law().ultimate_tensile_stress()
-    }
-
-    /// The flow stress σ0 the closed forms take: the mean of the yield and ultimate stresses,
-    /// (σy + σu)/2, the usual choice for a hardening wall in the crush literature; σy for a
-    /// perfectly plastic one.
-    pub fn flow_stress_mpa(&self) -> f64 {
-        0.5 * (self.yield_stress_mpa + self.ultimate_stress_mpa())
+    /// The yield stress and the engineering ultimate stress of the static curve (where a bar
+    /// of it necks: [`Hardening::ultimate_tensile_stress`]), from which the closed forms take
+    /// their flow stress.
+    pub fn flow_stresses(&self) -> FlowStresses {
+        FlowStresses {
+            yield_stress: self.yield_stress_mpa,
+            ultimate: self.hardening_law().ultimate_tensile_stress(),
+        }
     }
 
     /// The rate factor R ≥ 1 at the equivalent plastic strain rate `rate_per_s` (1/s).
