@@ -126,7 +126,9 @@ const MAX_SLICES: usize = 400;
 pub struct ModeDetail {
     /// Slices holding enough particles to analyse.
     pub slices: u32,
-    /// Slices counted as folded (used for the ring/diamond decision).
+    /// Slices counted as folded: a round tube's where the wall turned back along the axis (the
+    /// ring/diamond decision reads these), a rectangular tube's where its faces moved enough to
+    /// be read (the faces' patterns in `faces` count these).
     pub folded_slices: u32,
     /// Width of a slice in the initial axial coordinate, mm.
     pub slice_width_mm: Real,
@@ -165,6 +167,13 @@ pub struct FaceLayers {
     pub asymmetric: u32,
     /// All four faces out (or in) together.
     pub extensional: u32,
+}
+
+impl FaceLayers {
+    /// The folded slices the faces were read on.
+    pub fn total(&self) -> u32 {
+        self.symmetric + self.asymmetric + self.extensional
+    }
 }
 
 /// Per-slice accumulators.
@@ -314,6 +323,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
         let (mode, counts, reason) = rectangular::decide(&faces, t);
         detail.faces = Some(counts);
+        detail.folded_slices = counts.total();
         detail.reason = reason;
         return (mode, detail);
     }

@@ -80,7 +80,7 @@ pub(super) fn decide(slices: &[FaceSlice], t: Real) -> (CollapseMode, FaceLayers
             Layer::Extensional => counts.extensional += 1,
         }
     }
-    let folded = counts.symmetric + counts.asymmetric + counts.extensional;
+    let folded = counts.total();
     let tally = format!(
         "of {folded} folded slices, {} symmetric, {} asymmetric, {} extensional",
         counts.symmetric, counts.asymmetric, counts.extensional
@@ -169,6 +169,28 @@ mod tests {
         let (mode, detail) = detect_mode(&case, &snap);
         assert_eq!(mode, CollapseMode::AsymmetricMixed, "{detail:?}");
         assert_eq!(mode.kind(), "asymmetric_mixed");
+    }
+
+    /// What broke: a square tube's summary gave one count of folded slices (the round tubes'
+    /// rule, wall turned back) and its reason another (the faces'), 57 against 75 on the same run.
+    #[test]
+    fn a_square_tube_s_folded_slices_are_those_its_faces_were_read_on() {
+        let case = square_case();
+        let mixed = |k: usize| match k % 2 {
+            0 => [1.0, -1.0, 1.0, -1.0],
+            _ => [1.0, 1.0, 1.0, -1.0],
+        };
+        let snap = deformed(&case, layers(mixed), |_| [0.0; 2]);
+        let (_, detail) = detect_mode(&case, &snap);
+        let faces = detail.faces.unwrap();
+        assert!(faces.total() > 0, "{detail:?}");
+        assert_eq!(detail.folded_slices, faces.total(), "{detail:?}");
+        assert!(
+            detail
+                .reason
+                .contains(&format!("of {} folded slices", detail.folded_slices)),
+            "{detail:?}"
+        );
     }
 
     #[test]
