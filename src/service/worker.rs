@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use tokio::sync::{watch, Notify};
+use tokio::sync::{oneshot, watch, Notify};
 use uuid::Uuid;
 
 /// How the workers run.
@@ -323,11 +323,13 @@ impl Workers {
             frames,
         };
         tracing::info!(job = %id, attempt = job.attempt, particles, "job started");
+        let (stop_beating, beats_stop) = oneshot::channel::<()>();
         let heartbeat = tokio::spawn(heartbeat(
             self.store.clone(),
             job.clone(),
             running.clone(),
             self.config.heartbeat,
+            beats_stop,
         ));
         let cancel = running.cancel.clone();
         let result = tokio::task::spawn_blocking(move || {
@@ -342,7 +344,11 @@ impl Workers {
             (out, observer.job.publisher)
         })
         .await;
-        heartbeat.abort();
+        // Told, not aborted: a beat in flight finishes its statement first (an abort mid-query
+        // can hand its pooled connection back half-way through the protocol). A beat stuck on
+        // an unreachable store is left to end on its own after a minute.
+        drop(stop_beating);
+        let _ = tokio::time::timeout(Duration::from_secs(60), heartbeat).await;
         if let Some(writer) = writer {
             let _ = writer.await;
         }
@@ -543,12 +549,22 @@ impl Drop for Tracked<'_> {
 }
 
 /// Beats while the job runs: stores the latest progress, notices a cancel asked through
-/// another process, and stops the run if the lease was lost.
-async fn heartbeat(store: Store, job: Claimed, running: Arc<Running>, every: Duration) {
+/// another process, and stops the run if the lease was lost. Ends between beats once `stop`
+/// resolves (its sender sent or dropped), never inside a store call.
+async fn heartbeat(
+    store: Store,
+    job: Claimed,
+    running: Arc<Running>,
+    every: Duration,
+    mut stop: oneshot::Receiver<()>,
+) {
     let mut tick = tokio::time::interval(every);
     tick.tick().await;
     loop {
-        tick.tick().await;
+        tokio::select! {
+            _ = tick.tick() => {}
+            _ = &mut stop => return,
+        }
         let latest = *running.latest.lock().unwrap_or_else(|e| e.into_inner());
         let json = latest.map(|p| (serde_json::to_string(&p).unwrap_or_default(), p.fraction));
         match store
@@ -577,6 +593,73 @@ async fn heartbeat(store: Store, job: Claimed, running: Arc<Running>, every: Dur
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::service::store::NewJob;
+
+    /// What broke: the heartbeat was aborted when its run ended, possibly inside its UPDATE,
+    /// and PostgreSQL once answered a later beat with "incorrect binary data format in bind
+    /// parameter 3". It now ends between beats when told, after storing what it beat with.
+    #[tokio::test]
+    async fn a_heartbeat_told_to_stop_ends_between_beats_after_storing_its_progress() {
+        let dir = tempfile::tempdir().unwrap();
+        let url = format!("sqlite://{}", dir.path().join("t.db").display());
+        let store = Store::open(&url).await.unwrap();
+        let id = Uuid::new_v4();
+        let new = NewJob {
+            id,
+            case_json: "{}".into(),
+            label: None,
+            particles: 10,
+            idempotency_key: None,
+        };
+        store.submit(new, 10).await.unwrap();
+        let job = store.claim("a").await.unwrap().unwrap();
+        let progress = Progress {
+            step: 7,
+            time_ms: 0.1,
+            displacement_mm: 1.0,
+            load_n: 5.0,
+            fraction: 0.25,
+            elapsed_s: 1.0,
+            eta_s: 3.0,
+        };
+        let running = Arc::new(Running {
+            cancel: Arc::new(AtomicBool::new(false)),
+            user_cancel: AtomicBool::new(false),
+            stopping: Arc::new(AtomicBool::new(false)),
+            particles: 10,
+            latest: Arc::new(Mutex::new(Some(progress))),
+        });
+        let (stop, stopped) = oneshot::channel();
+        let every = Duration::from_millis(5);
+        let beating = tokio::spawn(heartbeat(
+            store.clone(),
+            job,
+            running.clone(),
+            every,
+            stopped,
+        ));
+        let stored = async {
+            loop {
+                if let Some(json) = store.job(id).await.unwrap().unwrap().progress_json {
+                    return json;
+                }
+                tokio::time::sleep(every).await;
+            }
+        };
+        let json = tokio::time::timeout(Duration::from_secs(10), stored)
+            .await
+            .unwrap();
+        assert_eq!(serde_json::from_str::<Progress>(&json).unwrap(), progress);
+        drop(stop);
+        tokio::time::timeout(Duration::from_secs(10), beating)
+            .await
+            .expect("the heartbeat ends by itself once told")
+            .expect("and does not panic");
+        assert!(
+            !running.cancel.load(Ordering::Relaxed),
+            "nothing was cancelled"
+        );
+    }
 
     #[test]
     fn a_panic_fails_the_job_and_a_cancel_is_the_clients_or_an_interruption() {
