@@ -134,6 +134,14 @@ mod tests {
         }
     }
 
+    /// Symmetric layers and, between them, three faces out and one in.
+    fn mixed(k: usize) -> [Real; 4] {
+        match k % 2 {
+            0 => [1.0, -1.0, 1.0, -1.0],
+            _ => [1.0, 1.0, 1.0, -1.0],
+        }
+    }
+
     #[test]
     fn symmetric_layers_are_the_symmetric_mode() {
         let case = square_case();
@@ -160,11 +168,6 @@ mod tests {
     #[test]
     fn layers_of_three_out_and_one_in_make_the_mode_asymmetric_mixed() {
         let case = square_case();
-        // Symmetric layers and, between them, three faces out and one in.
-        let mixed = |k: usize| match k % 2 {
-            0 => [1.0, -1.0, 1.0, -1.0],
-            _ => [1.0, 1.0, 1.0, -1.0],
-        };
         let snap = deformed(&case, layers(mixed), |_| [0.0; 2]);
         let (mode, detail) = detect_mode(&case, &snap);
         assert_eq!(mode, CollapseMode::AsymmetricMixed, "{detail:?}");
@@ -176,10 +179,6 @@ mod tests {
     #[test]
     fn a_square_tube_s_folded_slices_are_those_its_faces_were_read_on() {
         let case = square_case();
-        let mixed = |k: usize| match k % 2 {
-            0 => [1.0, -1.0, 1.0, -1.0],
-            _ => [1.0, 1.0, 1.0, -1.0],
-        };
         let snap = deformed(&case, layers(mixed), |_| [0.0; 2]);
         let (_, detail) = detect_mode(&case, &snap);
         let faces = detail.faces.unwrap();
