@@ -600,9 +600,7 @@ mod tests {
     /// parameter 3". It now ends between beats when told, after storing what it beat with.
     #[tokio::test]
     async fn a_heartbeat_told_to_stop_ends_between_beats_after_storing_its_progress() {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let store = Store::open(&url).await.unwrap();
+        let (_dir, store) = crate::service::store::temp_store().await;
         let id = Uuid::new_v4();
         let new = NewJob {
             id,

@@ -189,9 +189,7 @@ mod tests {
 
     #[tokio::test]
     async fn a_listener_that_falls_behind_the_channel_still_gets_every_progress_event_it_missed() {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let store = Store::open(&url).await.unwrap();
+        let (_dir, store) = crate::service::store::temp_store().await;
         let id = Uuid::new_v4();
         let job = NewJob {
             id,

@@ -152,9 +152,7 @@ mod tests {
     #[tokio::test]
     async fn a_frame_of_two_parts_and_one_particle_reads_back_whole_part_by_part_and_a_rerun_replaces_it(
     ) {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let store = Store::open(&url).await.unwrap();
+        let (_dir, store) = crate::service::store::temp_store().await;
         let job = NewJob {
             id: Uuid::new_v4(),
             case_json: "{}".into(),

@@ -433,6 +433,16 @@ fn parse_uuid(s: &str) -> Result<Uuid> {
     Uuid::parse_str(s).map_err(|_| StoreError::Corrupt(format!("{s:?} is not a UUID")))
 }
 
+/// A store on a fresh SQLite file, for tests; the folder holding it goes when the first is
+/// dropped.
+#[cfg(test)]
+pub(crate) async fn temp_store() -> (tempfile::TempDir, Store) {
+    let dir = tempfile::tempdir().unwrap();
+    let url = format!("sqlite://{}", dir.path().join("t.db").display());
+    let store = Store::open(&url).await.unwrap();
+    (dir, store)
+}
+
 /// A summary of the default case with no history (every field filled by the solver's own
 /// `summarize`, so it keeps up with new fields), for tests of what the store keeps.
 #[cfg(test)]

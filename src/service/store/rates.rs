@@ -92,9 +92,7 @@ mod tests {
 
     #[tokio::test]
     async fn rates_are_calibrated_from_the_stored_jobs_of_the_same_model_and_shape() {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let store = Store::open(&url).await.unwrap();
+        let (_dir, store) = crate::service::store::temp_store().await;
         assert!(store.rate_samples().await.unwrap().is_empty());
         // 1e6 particle-steps each: 3D uGIMP at 2, 4 and 8 M/s on two threads (1, 2 and 4 M on
         // one), a linear 3D run and an axisymmetric one.

@@ -171,9 +171,7 @@ mod tests {
     use crate::service::store::{NewJob, NewSweep, Succeeded};
 
     async fn store() -> (tempfile::TempDir, Store) {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        (dir, Store::open(&url).await.unwrap())
+        crate::service::store::temp_store().await
     }
 
     fn job() -> NewJob {

@@ -395,10 +395,7 @@ mod tests {
     use crate::service::store::{NewJob, StoreError};
 
     async fn store() -> (tempfile::TempDir, Store) {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let store = Store::open(&url).await.unwrap();
-        (dir, store)
+        crate::service::store::temp_store().await
     }
 
     fn job() -> NewJob {
