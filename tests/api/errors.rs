@@ -141,10 +141,16 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     .await;
     assert!(fields(&p).contains(&"discretization.particles_through_thickness".to_string()));
 
-    // 413: a body over the limit, whether announced or streamed.
+    // 413: a body over the limit, whether announced or streamed. The server closes such a
+    // connection, so these requests go through a client that keeps no idle connection: a
+    // pooled one could be handed to the next request just as the server closes it.
     let huge = format!("{{\"label\": \"{}\"}}", "x".repeat(200_000));
+    let once = reqwest::Client::builder()
+        .pool_max_idle_per_host(0)
+        .build()
+        .unwrap();
     problem(
-        c.post(&jobs)
+        once.post(&jobs)
             .header("content-type", "application/json")
             .body(huge.clone())
             .send()
@@ -154,7 +160,7 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
     )
     .await;
     let chunks = futures::stream::iter((0..50).map(|_| Ok::<_, std::io::Error>(vec![b' '; 4096])));
-    let streamed = c
+    let streamed = once
         .post(&jobs)
         .header("content-type", "application/json")
         .body(reqwest::Body::wrap_stream(chunks));
