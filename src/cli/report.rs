@@ -171,6 +171,14 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
          (left above {:.2} mm)",
         detail.end_lift_mm[0], detail.end_lift_mm[1], detail.end_lift_threshold_mm
     );
+    if detail.unfolded_slices > 0 {
+        let _ = writeln!(
+            o,
+            "                   unfolded wall ({} slices): two lobes of {:.2} mm at most, at {:.0} \
+             mm from the fixed end before the crush",
+            detail.unfolded_slices, detail.unfolded_two_lobe_mm, detail.unfolded_two_lobe_at_mm
+        );
+    }
     let _ = writeln!(
         o,
         "  energy balance   {:.2} % error",
@@ -393,10 +401,20 @@ mod tests {
             &s,
             &ModeDetail {
                 reason: "because".into(),
+                unfolded_slices: 12,
+                unfolded_two_lobe_mm: 1.234,
+                unfolded_two_lobe_at_mm: 20.4,
                 ..Default::default()
             },
         );
         assert!(text.starts_with("pvc axial\n"), "{text}");
+        assert!(
+            text.contains(
+                "unfolded wall (12 slices): two lobes of 1.23 mm at most, at 20 mm from the \
+                 fixed end"
+            ),
+            "{text}"
+        );
         assert!(
             text.contains("\nshape functions gimp: the default for a wall of d/t = 6.9"),
             "{text}"
@@ -429,7 +447,11 @@ mod tests {
         .unwrap();
         let mut s = summary(&case, 9_513.6, CollapseMode::Ring);
         s.energy_balance_error = 0.06;
-        s.verdict = Some(crate::solver::analysis::verdict::of_run(&case, &s));
+        s.verdict = Some(crate::solver::analysis::verdict::of_run(
+            &case,
+            &s,
+            &ModeDetail::default(),
+        ));
         let text = format_report(&case, &s, &ModeDetail::default());
         let verdict = text.find("  verdict          not_trusted\n").expect(&text);
         assert!(verdict < text.find("mean load").unwrap(), "{text}");

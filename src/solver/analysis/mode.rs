@@ -45,6 +45,15 @@
 //! reads as ring, and the detail says so). Lateral loading is always
 //! [`CollapseMode::Flattening`]; its detail is computed the same way about the x axis.
 //!
+//! How round the wall not yet folded stayed (a round tube under axial loading, whatever its
+//! mode): a slice holds a **hinge** when at least [`HINGE_SHARE`] of its particles passed the
+//! plastic strain [`HINGE_STRAIN`] (a fold's hinge lines strain the wall far more; an oval or a
+//! cone bent out of the wall does not); the slices with none, at least half a fold length
+//! (`verdict::fold_length_mm` / 2) from any slice with one, are the unfolded wall, and the
+//! largest harmonic-2 amplitude among them of each particle's distance from its slice's own
+//! current centroid, less its initial radius, is `unfolded_two_lobe_mm`: how far the unfolded
+//! wall went oval. A real tube keeps that below a fifth of its wall thickness ahead of its folds.
+//!
 //! A rectangular tube's harmonics are those of its wall-line angle (its perimeter), and its
 //! drift is judged against its larger side; once it has not bent over as a whole, its mode is
 //! read from how its faces fold ([`rectangular`]): symmetric, asymmetric mixed or extensional.
@@ -52,6 +61,7 @@
 mod rectangular;
 
 use super::faces::face_slices;
+use super::verdict::fold_length_mm;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
@@ -116,6 +126,13 @@ pub const SECTORS: usize = 16;
 /// An end has left its plate when its ring's mean height above the tube's extreme point at that
 /// end exceeds this share of the width d: a ring turned by 30° about its lowest point.
 pub const END_LIFT_FRACTION: Real = 0.25;
+/// The plastic strain a fold's hinge lines pass (PVC and aluminium folds strain their hinges
+/// to 0.4–0.8; the wall between folds, an oval or a cone bent out of the wall, 0.02–0.1) ...
+pub const HINGE_STRAIN: Real = 0.2;
+/// ... in at least this share of a slice's particles for the slice to hold a hinge (the
+/// slices through a fold's hinges pass 0.3–1.0; a wall pressed on a plate with friction, or a
+/// slice on a fold's edge, up to 0.1–0.25).
+pub const HINGE_SHARE: Real = 0.25;
 /// Fewest particles a slice needs to resolve harmonic 8 (Nyquist: 2·8 + 1).
 const MIN_PER_SLICE: usize = 2 * MAX_HARMONIC + 1;
 /// Most slices along the tube.
@@ -151,6 +168,17 @@ pub struct ModeDetail {
     /// Lift beyond which an end has left its plate (END_LIFT_FRACTION · d), mm.
     #[serde(default)]
     pub end_lift_threshold_mm: Real,
+    /// The unfolded wall of a round tube under axial loading (slices with no hinge, half a
+    /// fold length or more from any with one): how many slices, ...
+    #[serde(default)]
+    pub unfolded_slices: u32,
+    /// ... their largest two-lobe (harmonic 2) amplitude about their own centroid, mm (0 with
+    /// none) ...
+    #[serde(default)]
+    pub unfolded_two_lobe_mm: Real,
+    /// ... and where that slice lay before the crush (its initial axial coordinate), mm.
+    #[serde(default)]
+    pub unfolded_two_lobe_at_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
     /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
@@ -190,6 +218,11 @@ struct Slice {
     /// lateral a, lateral b) coordinates.
     sector_count: [u32; SECTORS],
     sector_sum: [[Real; 3]; SECTORS],
+    /// Particles past [`HINGE_STRAIN`].
+    hinged: usize,
+    /// Σ w_c cos 2θ, Σ w_c sin 2θ, w_c the distance from the slice's current centroid less
+    /// the initial reach.
+    oval_sum: [Real; 2],
 }
 
 impl Slice {
@@ -216,6 +249,14 @@ impl Slice {
         let n = self.sector_count[s] as Real;
         let c = &self.sector_sum[s];
         (n > 0.0).then(|| [c[0] / n, c[1] / n, c[2] / n])
+    }
+    /// Harmonic 2 of the distance from the slice's own centroid, mm.
+    fn oval_amplitude(&self) -> Real {
+        2.0 * self.oval_sum[0].hypot(self.oval_sum[1]) / self.count as Real
+    }
+    /// Whether a fold's hinge runs through the slice.
+    fn holds_hinge(&self) -> bool {
+        self.hinged as Real >= HINGE_SHARE * self.count as Real
     }
     /// Largest ring or lobe amplitude (harmonics 0 and 2..8).
     fn fold_amplitude(&self) -> Real {
@@ -285,6 +326,9 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         };
         detail.reason = format!("no particles to analyse; reported as {name}");
         return (mode, detail);
+    }
+    if !rectangular {
+        unfolded_wall(&slices, 0.5 * fold_length_mm(case), &mut detail);
     }
     let max_fold = slices
         .iter()
@@ -433,9 +477,14 @@ fn slice_up(
     detail.slice_width_mm = width;
     let mut slices = vec![Slice::default(); count];
     // A non-finite coordinate would poison its slice's sums; the solver should never store one.
-    for (p0, p) in pairs().filter(|(p0, p)| p0.iter().chain(p.iter()).all(|v| v.is_finite())) {
-        let k = (((p0[ax] - lo) / width) as usize).min(count - 1);
-        let s = &mut slices[k];
+    let finite = |(_, (p0, p)): &(usize, (&[Real; 3], &[Real; 3]))| {
+        p0.iter().chain(p.iter()).all(|v| v.is_finite())
+    };
+    let slice_of = |p0: &[Real; 3]| (((p0[ax] - lo) / width) as usize).min(count - 1);
+    let strain = |i: usize| snapshot.plastic_strain.get(i).copied().unwrap_or(0.0);
+    for (i, (p0, p)) in pairs().enumerate().filter(finite) {
+        let s = &mut slices[slice_of(p0)];
+        s.hinged += usize::from(strain(i) > HINGE_STRAIN);
         let r0 = section.reach(p0[la], p0[lb]);
         let w = section.reach(p[la], p[lb]) - r0;
         let theta = section.angle(p0[la], p0[lb]);
@@ -456,8 +505,39 @@ fn slice_up(
             s.sin_sum[m] += w * sin;
         }
     }
+    // The distance from each slice's own centroid needs the centroids: a second pass.
+    for (_, (p0, p)) in pairs().enumerate().filter(finite) {
+        let s = &mut slices[slice_of(p0)];
+        let c = s.centroid();
+        let w_c = section.reach(p[la] - c[0], p[lb] - c[1]) - section.reach(p0[la], p0[lb]);
+        let (sin, cos) = (2.0 * section.angle(p0[la], p0[lb])).sin_cos();
+        s.oval_sum[0] += w_c * cos;
+        s.oval_sum[1] += w_c * sin;
+    }
     slices.retain(|s| s.count >= MIN_PER_SLICE);
     slices
+}
+
+/// The unfolded wall's slices and their largest two-lobe amplitude (module doc), into `detail`:
+/// the slices without a hinge whose initial axial coordinate lies at least `clear` mm from
+/// every slice with one.
+fn unfolded_wall(slices: &[Slice], clear: Real, detail: &mut ModeDetail) {
+    let hinges: Vec<Real> = slices
+        .iter()
+        .filter(|s| s.holds_hinge())
+        .map(Slice::axial)
+        .collect();
+    let unfolded = slices
+        .iter()
+        .filter(|s| !s.holds_hinge() && hinges.iter().all(|&z| (s.axial() - z).abs() >= clear));
+    for s in unfolded {
+        detail.unfolded_slices += 1;
+        let a = s.oval_amplitude();
+        if a > detail.unfolded_two_lobe_mm {
+            detail.unfolded_two_lobe_mm = a;
+            detail.unfolded_two_lobe_at_mm = s.axial();
+        }
+    }
 }
 
 /// Per slice, the share of its sectors whose wall line has turned more than 45° from the tube's

@@ -145,7 +145,7 @@ pub fn summarize(
         verdict: None,
         error_bar: None,
     };
-    summary.verdict = Some(verdict::of_run(case, &summary));
+    summary.verdict = Some(verdict::of_run(case, &summary, &mode_detail));
     (summary, mode_detail)
 }
 

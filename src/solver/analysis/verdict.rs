@@ -4,7 +4,7 @@
 //! of its reasons (no reason: trusted). Some rules can be told before a run
 //! ([`foreseen`]: the form warns with them); the others need its numbers ([`of_run`]).
 
-use super::mode::CollapseMode;
+use super::mode::{CollapseMode, ModeDetail};
 use super::summary::Summary;
 use crate::solver::model::case::{Case, LoadingMode, Model};
 use schemars::JsonSchema;
@@ -64,6 +64,9 @@ pub enum Rule {
     TippedOver,
     /// The load fell to zero over a stretch of the crush: the tube floated between the plates.
     Unloaded,
+    /// The wall not yet folded went oval: the tube did not fold progressively with the rest
+    /// of it round.
+    OvalisedWall,
 }
 
 impl Rule {
@@ -78,6 +81,7 @@ impl Rule {
             Rule::Unstable => "unstable",
             Rule::TippedOver => "tipped_over",
             Rule::Unloaded => "unloaded",
+            Rule::OvalisedWall => "ovalised_wall",
         }
     }
 }
@@ -203,9 +207,36 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
 /// one millimetre allows for the contact settling at the start.
 pub const UNLOADED_NOT_TRUSTED_MM: f64 = 1.0;
 
-/// The verdict of a finished run: the foreseen reasons and those its numbers show.
-pub fn of_run(case: &Case, summary: &Summary) -> Verdict {
+/// The two-lobe amplitude of the unfolded wall, in wall thicknesses, past which a crush is
+/// marked with caution. A real tube keeps the wall ahead of its folds round (below 0.2 t); the
+/// ring-folding runs of docs/folding.md §6 read at most 0.03 t; the caution starts at 2.5 times
+/// the 0.2 t, leaving room for the measure's own error on a slice next to a fold.
+pub const OVAL_CAUTION_T: f64 = 0.5;
+
+/// The verdict of a finished run: the foreseen reasons and those its numbers and its final
+/// shape (`detail`) show.
+pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
     let mut reasons = foreseen(case);
+    let t = case.geometry().section.thickness_mm();
+    let folding = matches!(
+        summary.mode,
+        CollapseMode::Ring | CollapseMode::Diamond { .. }
+    );
+    if folding && detail.unfolded_two_lobe_mm > OVAL_CAUTION_T * t {
+        reasons.push(Reason {
+            rule: Rule::OvalisedWall,
+            level: Level::Caution,
+            detail: format!(
+                "the wall not yet folded went oval: two lobes of {:.2} mm ({:.1} t) at {:.0} mm \
+                 from the fixed end before the crush (over {OVAL_CAUTION_T} t; a real tube's \
+                 stays within 0.2 t), so the tube did not fold progressively with the rest \
+                 round and its load is not that of a progressive crush (docs/folding.md §6)",
+                detail.unfolded_two_lobe_mm,
+                detail.unfolded_two_lobe_mm / t,
+                detail.unfolded_two_lobe_at_mm,
+            ),
+        });
+    }
     if summary.mode == CollapseMode::TippedOver {
         reasons.push(Reason {
             rule: Rule::TippedOver,

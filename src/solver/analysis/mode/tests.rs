@@ -273,3 +273,44 @@ fn lateral_loading_is_flattening_with_an_oval_section() {
         "{detail:?}"
     );
 }
+
+/// The unfolded wall's roundness: the top 30 mm folds in three lobes with its hinges strained
+/// (ε_p 0.5 there), the wall below is oval by `oval` mm and unstrained. The oval is read below
+/// the folds, half a fold length clear of them; a round wall reads none; a wall whose every
+/// slice holds a hinge has no unfolded slice.
+#[test]
+fn the_unfolded_wall_s_oval_is_read_below_the_folds_and_only_there() {
+    let case = axial_case();
+    let l = case.spec().tube.length_mm;
+    let zone = 30.0;
+    let build = |oval: Real, hinges_everywhere: bool| {
+        let mut snap = tube(&case, |z, th, r| {
+            if z <= l - zone {
+                return radial(z, th, r, oval * (2.0 * th).cos());
+            }
+            let (share, z) = folded(z, l, zone);
+            radial(z, th, r, 2.0 * (3.0 * th).cos() * share)
+        });
+        for (e, p0) in snap.plastic_strain.iter_mut().zip(&snap.initial_mm) {
+            let hinge = hinges_everywhere || p0[2] > l - zone;
+            *e = if hinge { 0.5 } else { 0.0 };
+        }
+        snap
+    };
+    let (_, oval) = detect_mode(&case, &build(2.0, false));
+    assert!((oval.unfolded_two_lobe_mm - 2.0).abs() < 0.05, "{oval:?}");
+    let clear = 0.5 * fold_length_mm(&case);
+    assert!(
+        oval.unfolded_two_lobe_at_mm < l - zone - clear && oval.unfolded_slices > 0,
+        "{oval:?}"
+    );
+    let (_, round) = detect_mode(&case, &build(0.0, false));
+    assert!(round.unfolded_two_lobe_mm < 0.01, "{round:?}");
+    assert_eq!(round.unfolded_slices, oval.unfolded_slices);
+    let (_, strained) = detect_mode(&case, &build(2.0, true));
+    assert_eq!(
+        (strained.unfolded_slices, strained.unfolded_two_lobe_mm),
+        (0, 0.0),
+        "{strained:?}"
+    );
+}

@@ -87,7 +87,7 @@ fn a_thin_triggered_3d_tube_has_a_seed_sensitive_mode_and_a_thick_or_untriggered
 fn the_energy_balance_is_caution_above_2_percent_and_not_trusted_above_5() {
     let c = case("{}");
     let level = |e: f64| {
-        rules(&of_run(&c, &summary(e, 0.0)).reasons)
+        rules(&of_run(&c, &summary(e, 0.0), &ModeDetail::default()).reasons)
             .into_iter()
             .find(|(r, _)| *r == Rule::EnergyBalance)
             .map(|(_, l)| l)
@@ -106,7 +106,7 @@ fn an_energy_reason_names_half_the_case_s_time_step() {
         (r#"{"discretization": {"cfl": 0.3}}"#, "0.15"),
     ] {
         let c = case(json);
-        let v = of_run(&c, &summary(0.03, 0.0));
+        let v = of_run(&c, &summary(0.03, 0.0), &ModeDetail::default());
         let r = v
             .reasons
             .iter()
@@ -124,7 +124,7 @@ fn an_energy_reason_names_half_the_case_s_time_step() {
 fn kinetic_energy_above_5_percent_of_the_internal_is_not_quasi_static() {
     let c = case("{}");
     let level = |k: f64| {
-        rules(&of_run(&c, &summary(0.0, k)).reasons)
+        rules(&of_run(&c, &summary(0.0, k), &ModeDetail::default()).reasons)
             .into_iter()
             .find(|(r, _)| *r == Rule::NotQuasiStatic)
             .map(|(_, l)| l)
@@ -142,8 +142,14 @@ fn a_blow_up_is_not_trusted_and_the_verdict_is_its_worst_reason() {
     assert!(v.reasons[0].detail.contains("kinetic energy"));
     assert_eq!(Verdict::of(vec![]).level, Level::Trusted);
     let c = case(r#"{"discretization": {"particles_through_thickness": 3}}"#);
-    assert_eq!(of_run(&c, &summary(0.06, 0.0)).level, Level::NotTrusted);
-    assert_eq!(of_run(&c, &summary(0.0, 0.0)).level, Level::Caution);
+    assert_eq!(
+        of_run(&c, &summary(0.06, 0.0), &ModeDetail::default()).level,
+        Level::NotTrusted
+    );
+    assert_eq!(
+        of_run(&c, &summary(0.0, 0.0), &ModeDetail::default()).level,
+        Level::Caution
+    );
 }
 
 /// A smoke-test case: one particle through an 8 mm tube's wall, 1 mm of crush at 20 m/s. It
@@ -194,15 +200,15 @@ fn a_failed_run_is_not_trusted_only_when_it_blew_up() {
 fn a_tube_that_tipped_over_or_floated_between_the_plates_is_not_trusted() {
     let c = case("{}");
     let mut s = summary(0.0, 0.0);
-    assert_eq!(of_run(&c, &s).level, Level::Trusted);
+    assert_eq!(of_run(&c, &s, &ModeDetail::default()).level, Level::Trusted);
     s.mode = CollapseMode::TippedOver;
-    let v = of_run(&c, &s);
+    let v = of_run(&c, &s, &ModeDetail::default());
     assert_eq!(rules(&v.reasons), [(Rule::TippedOver, Level::NotTrusted)]);
     let mut s = summary(0.0, 0.0);
     s.longest_unloaded_mm = 0.9;
-    assert_eq!(of_run(&c, &s).level, Level::Trusted);
+    assert_eq!(of_run(&c, &s, &ModeDetail::default()).level, Level::Trusted);
     s.longest_unloaded_mm = 20.5;
-    let v = of_run(&c, &s);
+    let v = of_run(&c, &s, &ModeDetail::default());
     assert_eq!(rules(&v.reasons), [(Rule::Unloaded, Level::NotTrusted)]);
     assert!(
         v.reasons[0].detail.contains("20.5 mm"),
@@ -220,9 +226,40 @@ fn a_reason_s_words_are_one_space_apart() {
     let mut s = summary(0.9, 0.9);
     s.mode = CollapseMode::TippedOver;
     s.longest_unloaded_mm = 20.5;
-    let v = of_run(&c, &s);
+    let v = of_run(&c, &s, &ModeDetail::default());
     assert!(v.reasons.len() >= 3, "{:?}", v.reasons);
     for r in v.reasons.iter().chain(foreseen(&c).iter()) {
         assert!(!r.detail.contains("  "), "{:?}: {:?}", r.rule, r.detail);
+    }
+}
+
+#[test]
+fn an_ovalised_unfolded_wall_is_caution_on_a_folding_tube_only() {
+    // The default tube's wall is 3.2 mm: the caution starts past 0.5 t = 1.6 mm.
+    let c = case("{}");
+    let oval = |mm: f64| ModeDetail {
+        unfolded_two_lobe_mm: mm,
+        unfolded_two_lobe_at_mm: 20.0,
+        ..Default::default()
+    };
+    let s = summary(0.0, 0.0);
+    assert_eq!(of_run(&c, &s, &oval(1.5)).level, Level::Trusted);
+    let v = of_run(&c, &s, &oval(2.0));
+    assert_eq!(rules(&v.reasons), [(Rule::OvalisedWall, Level::Caution)]);
+    let said = &v.reasons[0].detail;
+    assert!(said.contains("2.00 mm (0.6 t) at 20 mm"), "{said}");
+    assert!(!said.contains("  "), "{said}");
+    let mut diamond = summary(0.0, 0.0);
+    diamond.mode = CollapseMode::Diamond { lobes: 2 };
+    assert_eq!(of_run(&c, &diamond, &oval(2.0)).level, Level::Caution);
+    // A column that bent or tipped over is judged by its own rules, not by its roundness.
+    for mode in [CollapseMode::GlobalBuckling, CollapseMode::TippedOver] {
+        let mut s = summary(0.0, 0.0);
+        s.mode = mode;
+        let v = of_run(&c, &s, &oval(5.0));
+        assert!(
+            !rules(&v.reasons).iter().any(|r| r.0 == Rule::OvalisedWall),
+            "{mode:?}"
+        );
     }
 }
