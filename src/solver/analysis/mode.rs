@@ -52,7 +52,8 @@
 //! (`verdict::fold_length_mm` / 2) from any slice with one, are the unfolded wall, and the
 //! largest harmonic-2 amplitude among them of each particle's distance from its slice's own
 //! current centroid, less its initial radius, is `unfolded_two_lobe_mm`: how far the unfolded
-//! wall went oval. A real tube keeps that below a fifth of its wall thickness ahead of its folds.
+//! wall went oval (docs/folding.md holds it to a fifth of the wall thickness, the roundness a
+//! real tube keeps ahead of its folds; the verdict cautions past half the wall thickness).
 //!
 //! A rectangular tube's harmonics are those of its wall-line angle (its perimeter), and its
 //! drift is judged against its larger side; once it has not bent over as a whole, its mode is
