@@ -290,7 +290,17 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             axisymmetric_detail(case, snapshot, detail),
         );
     }
-    let slices = slice_up(snapshot, &section, axes, case.spacing_mm(), &mut detail);
+    let rectangular = matches!(section, CrossSection::Rectangular(_));
+    // The unfolded wall's oval is read on a round tube under axial loading only.
+    let oval = geometry.mode == LoadingMode::Axial && !rectangular;
+    let slices = slice_up(
+        snapshot,
+        &section,
+        axes,
+        case.spacing_mm(),
+        oval,
+        &mut detail,
+    );
     detail.slices = slices.len() as u32;
 
     let folded: Vec<&Slice> = slices
@@ -319,7 +329,6 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         detail.reason = "lateral loading: the tube is flattened across a diameter".into();
         return (CollapseMode::Flattening, detail);
     }
-    let rectangular = matches!(section, CrossSection::Rectangular(_));
     if slices.is_empty() {
         let (mode, name) = match rectangular {
             true => (CollapseMode::Symmetric, "symmetric"),
@@ -328,7 +337,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         detail.reason = format!("no particles to analyse; reported as {name}");
         return (mode, detail);
     }
-    if !rectangular {
+    if oval {
         unfolded_wall(&slices, 0.5 * fold_length_mm(case), &mut detail);
     }
     let max_fold = slices
@@ -457,11 +466,13 @@ fn axisymmetric_detail(case: &Case, snapshot: &Snapshot, mut detail: ModeDetail)
 }
 
 /// Bins particles by initial axial coordinate; keeps slices with enough particles, in axial order.
+/// With `oval`, also sums each slice's two-lobe shape about its own centroid.
 fn slice_up(
     snapshot: &Snapshot,
     section: &CrossSection,
     [ax, la, lb]: [usize; 3],
     h: Real,
+    oval: bool,
     detail: &mut ModeDetail,
 ) -> Vec<Slice> {
     let pairs = || snapshot.initial_mm.iter().zip(&snapshot.position_mm);
@@ -506,14 +517,17 @@ fn slice_up(
             s.sin_sum[m] += w * sin;
         }
     }
-    // The distance from each slice's own centroid needs the centroids: a second pass.
-    for (_, (p0, p)) in pairs().enumerate().filter(finite) {
-        let s = &mut slices[slice_of(p0)];
-        let c = s.centroid();
-        let w_c = section.reach(p[la] - c[0], p[lb] - c[1]) - section.reach(p0[la], p0[lb]);
-        let (sin, cos) = (2.0 * section.angle(p0[la], p0[lb])).sin_cos();
-        s.oval_sum[0] += w_c * cos;
-        s.oval_sum[1] += w_c * sin;
+    // The distance from each slice's own centroid needs the centroids: a second pass, made
+    // only where the oval is read.
+    if oval {
+        for (_, (p0, p)) in pairs().enumerate().filter(finite) {
+            let s = &mut slices[slice_of(p0)];
+            let c = s.centroid();
+            let w_c = section.reach(p[la] - c[0], p[lb] - c[1]) - section.reach(p0[la], p0[lb]);
+            let (sin, cos) = (2.0 * section.angle(p0[la], p0[lb])).sin_cos();
+            s.oval_sum[0] += w_c * cos;
+            s.oval_sum[1] += w_c * sin;
+        }
     }
     slices.retain(|s| s.count >= MIN_PER_SLICE);
     slices
