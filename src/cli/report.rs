@@ -5,6 +5,7 @@ use crate::solver::analysis::error_bar::ErrorBar;
 use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::analysis::reference::{RectangularReferences, References, RoundReferences};
 use crate::solver::analysis::summary::UNLOADED_FRACTION;
+use crate::solver::analysis::verdict::END_SPREAD_CAUTION;
 use crate::solver::model::case::{CrossSection, LoadingMode};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
@@ -171,12 +172,26 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
          (left above {:.2} mm)",
         detail.end_lift_mm[0], detail.end_lift_mm[1], detail.end_lift_threshold_mm
     );
+    if detail.end_spread != [0.0; 2] {
+        let _ = writeln!(
+            o,
+            "                   end rings spread to {:.2} (bottom) and {:.2} (top) times the \
+             radius about their centres (flattened above {:.2})",
+            detail.end_spread[0], detail.end_spread[1], END_SPREAD_CAUTION
+        );
+    }
     if detail.unfolded_slices > 0 {
         let _ = writeln!(
             o,
             "                   unfolded wall ({} slices): two lobes of {:.2} mm at most, at {:.0} \
-             mm from the fixed end before the crush",
-            detail.unfolded_slices, detail.unfolded_two_lobe_mm, detail.unfolded_two_lobe_at_mm
+             mm from the fixed end before the crush; {:.2} mm beyond what the folds' two lobes \
+             ({:.2} mm) leave on an elastic tube (e-folding {:.0} mm)",
+            detail.unfolded_slices,
+            detail.unfolded_two_lobe_mm,
+            detail.unfolded_two_lobe_at_mm,
+            detail.unfolded_excess_two_lobe_mm,
+            detail.folds_two_lobe_mm,
+            detail.two_lobe_decay_mm
         );
     }
     let _ = writeln!(
@@ -404,6 +419,10 @@ mod tests {
                 unfolded_slices: 12,
                 unfolded_two_lobe_mm: 1.234,
                 unfolded_two_lobe_at_mm: 20.4,
+                unfolded_excess_two_lobe_mm: 0.456,
+                end_spread: [1.04, 1.6],
+                folds_two_lobe_mm: 2.5,
+                two_lobe_decay_mm: 13.6,
                 ..Default::default()
             },
         );
@@ -411,7 +430,15 @@ mod tests {
         assert!(
             text.contains(
                 "unfolded wall (12 slices): two lobes of 1.23 mm at most, at 20 mm from the \
-                 fixed end"
+                 fixed end before the crush; 0.46 mm beyond what the folds' two lobes (2.50 mm) \
+                 leave on an elastic tube (e-folding 14 mm)"
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains(
+                "end rings spread to 1.04 (bottom) and 1.60 (top) times the radius about their \
+                 centres (flattened above 1.25)"
             ),
             "{text}"
         );

@@ -52,8 +52,17 @@
 //! (`verdict::fold_length_mm` / 2) from any slice with one, are the unfolded wall, and the
 //! largest harmonic-2 amplitude among them of each particle's distance from its slice's own
 //! current centroid, less its initial radius, is `unfolded_two_lobe_mm`: how far the unfolded
-//! wall went oval (docs/folding.md holds it to a fifth of the wall thickness, the roundness a
-//! real tube keeps ahead of its folds; the verdict cautions past half the wall thickness).
+//! wall went oval. Not all of that is wrong: the hinged slices' own ovals reach along an
+//! elastic tube, decaying as e^(−x/ℓ) with ℓ the shell's e-folding length for two lobes
+//! (`reference::shell`; 39 mm on the d/t 14 PVC tube, where a fold is 23 mm long). What the
+//! unfolded wall holds beyond the largest of those envelopes is `unfolded_excess_two_lobe_mm`,
+//! the oval the folds do not explain (a cone splayed on the plate, a wall that yielded); the
+//! verdict cautions when it passes half the wall thickness (docs/folding.md §6).
+//!
+//! How far each end ring spread on its plate (`end_spread`, a round tube under axial loading):
+//! its particles' largest distance from its own centroid, over d/2. An end that folds stays
+//! near 1; one flattened shut into a pouch, its two sides pressed together on the plate,
+//! spreads to π/2, half its perimeter either side of its centre.
 //!
 //! A rectangular tube's harmonics are those of its wall-line angle (its perimeter), and its
 //! drift is judged against its larger side; once it has not bent over as a whole, its mode is
@@ -62,6 +71,7 @@
 mod rectangular;
 
 use super::faces::face_slices;
+use super::reference::shell::lobe_decay_mm;
 use super::verdict::fold_length_mm;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
@@ -169,6 +179,12 @@ pub struct ModeDetail {
     /// Lift beyond which an end has left its plate (END_LIFT_FRACTION · d), mm.
     #[serde(default)]
     pub end_lift_threshold_mm: Real,
+    /// How far each end ring (bottom, top) of a round tube under axial loading spread on its
+    /// plate: the largest distance of its particles from its own centroid over d/2. About 1
+    /// for an end that folded or stayed round; π/2 for a ring flattened shut (half its
+    /// perimeter either side of its centre).
+    #[serde(default)]
+    pub end_spread: [Real; 2],
     /// The unfolded wall of a round tube under axial loading (slices with no hinge, half a
     /// fold length or more from any with one): how many slices, ...
     #[serde(default)]
@@ -180,6 +196,23 @@ pub struct ModeDetail {
     /// ... and where that slice lay before the crush (its initial axial coordinate), mm.
     #[serde(default)]
     pub unfolded_two_lobe_at_mm: Real,
+    /// The largest two-lobe amplitude of the slices that hold a fold's hinge, mm: the oval
+    /// the folds themselves impose on the wall next to them.
+    #[serde(default)]
+    pub folds_two_lobe_mm: Real,
+    /// The e-folding length over which an elastic tube of this section carries an oval along
+    /// its axis (`reference::shell::lobe_decay_mm`, two lobes), mm.
+    #[serde(default)]
+    pub two_lobe_decay_mm: Real,
+    /// The unfolded wall's largest two-lobe amplitude beyond what the folds' ovals carry to
+    /// it on an elastic shell (each hinged slice's amplitude times e^(−distance / e-folding
+    /// length), the largest of them), mm: 0 where the wall is no more oval than the folds
+    /// make it ...
+    #[serde(default)]
+    pub unfolded_excess_two_lobe_mm: Real,
+    /// ... and where that slice lay before the crush, mm.
+    #[serde(default)]
+    pub unfolded_excess_two_lobe_at_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
     /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
@@ -338,7 +371,10 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         return (mode, detail);
     }
     if oval {
-        unfolded_wall(&slices, 0.5 * fold_length_mm(case), &mut detail);
+        detail.end_spread = end_spreads(snapshot, axes, case.spacing_mm()).map(|r| r / (0.5 * d));
+        let nu = case.spec().material.poisson_ratio;
+        let decay = lobe_decay_mm(0.5 * d, t, nu, 2);
+        unfolded_wall(&slices, 0.5 * fold_length_mm(case), decay, &mut detail);
     }
     let max_fold = slices
         .iter()
@@ -535,22 +571,33 @@ fn slice_up(
 
 /// The unfolded wall's slices and their largest two-lobe amplitude (module doc), into `detail`:
 /// the slices without a hinge whose initial axial coordinate lies at least `clear` mm from
-/// every slice with one.
-fn unfolded_wall(slices: &[Slice], clear: Real, detail: &mut ModeDetail) {
-    let hinges: Vec<Real> = slices
+/// every slice with one; and how much more oval they are than the hinged slices' ovals leave
+/// on an elastic shell that carries an oval over `decay` mm (e-folding).
+fn unfolded_wall(slices: &[Slice], clear: Real, decay: Real, detail: &mut ModeDetail) {
+    let hinges: Vec<(Real, Real)> = slices
         .iter()
         .filter(|s| s.holds_hinge())
-        .map(Slice::axial)
+        .map(|s| (s.axial(), s.oval_amplitude()))
         .collect();
-    let unfolded = slices
-        .iter()
-        .filter(|s| !s.holds_hinge() && hinges.iter().all(|&z| (s.axial() - z).abs() >= clear));
+    detail.two_lobe_decay_mm = decay;
+    detail.folds_two_lobe_mm = hinges.iter().map(|h| h.1).fold(0.0, Real::max);
+    let unfolded = slices.iter().filter(|s| {
+        !s.holds_hinge() && hinges.iter().all(|&(z, _)| (s.axial() - z).abs() >= clear)
+    });
     for s in unfolded {
         detail.unfolded_slices += 1;
         let a = s.oval_amplitude();
         if a > detail.unfolded_two_lobe_mm {
             detail.unfolded_two_lobe_mm = a;
             detail.unfolded_two_lobe_at_mm = s.axial();
+        }
+        let carried = hinges
+            .iter()
+            .map(|&(z, oval)| oval * (-(s.axial() - z).abs() / decay).exp())
+            .fold(0.0, Real::max);
+        if a - carried > detail.unfolded_excess_two_lobe_mm {
+            detail.unfolded_excess_two_lobe_mm = a - carried;
+            detail.unfolded_excess_two_lobe_at_mm = s.axial();
         }
     }
 }
@@ -612,6 +659,40 @@ fn end_lifts(snapshot: &Snapshot, [ax, ..]: [usize; 3], h: Real) -> [Real; 2] {
         }
     }
     sums.map(|(sum, n)| if n > 0 { sum / n as Real } else { 0.0 })
+}
+
+/// Per end ring (the particles within h/2 of the tube's initial bottom, top), the largest
+/// distance of a particle from the ring's own current centroid across the axis, mm.
+fn end_spreads(snapshot: &Snapshot, [ax, a, b]: [usize; 3], h: Real) -> [Real; 2] {
+    let pairs = || {
+        snapshot
+            .initial_mm
+            .iter()
+            .zip(&snapshot.position_mm)
+            .filter(|(p0, p)| p0[ax].is_finite() && p.iter().all(|x| x.is_finite()))
+    };
+    let (lo0, hi0) = pairs().fold((Real::MAX, Real::MIN), |(lo, hi), (p0, _)| {
+        (lo.min(p0[ax]), hi.max(p0[ax]))
+    });
+    let in_ring = |end: usize, z0: Real| match end {
+        0 => z0 <= lo0 + 0.5 * h,
+        _ => z0 >= hi0 - 0.5 * h,
+    };
+    [0, 1].map(|end| {
+        let (mut sum, mut n) = ([0.0; 2], 0usize);
+        for (_, p) in pairs().filter(|(p0, _)| in_ring(end, p0[ax])) {
+            sum = [sum[0] + p[a], sum[1] + p[b]];
+            n += 1;
+        }
+        if n == 0 {
+            return 0.0;
+        }
+        let c = sum.map(|x| x / n as Real);
+        pairs()
+            .filter(|(p0, _)| in_ring(end, p0[ax]))
+            .map(|(_, p)| (p[a] - c[0]).hypot(p[b] - c[1]))
+            .fold(0.0, Real::max)
+    })
 }
 
 /// Largest distance of a slice centroid from the line joining the end slices' centroids,

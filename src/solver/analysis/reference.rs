@@ -17,6 +17,7 @@
 //! Jones).
 
 pub mod rectangular;
+pub mod shell;
 
 pub use rectangular::RectangularReferences;
 

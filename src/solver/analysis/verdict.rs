@@ -67,6 +67,8 @@ pub enum Rule {
     /// The wall not yet folded went oval: the tube did not fold progressively with the rest
     /// of it round.
     OvalisedWall,
+    /// An end ring flattened on its plate into a pouch instead of folding.
+    FlattenedEnd,
 }
 
 impl Rule {
@@ -82,6 +84,7 @@ impl Rule {
             Rule::TippedOver => "tipped_over",
             Rule::Unloaded => "unloaded",
             Rule::OvalisedWall => "ovalised_wall",
+            Rule::FlattenedEnd => "flattened_end",
         }
     }
 }
@@ -207,11 +210,20 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
 /// one millimetre allows for the contact settling at the start.
 pub const UNLOADED_NOT_TRUSTED_MM: f64 = 1.0;
 
-/// The two-lobe amplitude of the unfolded wall, in wall thicknesses, past which a crush is
-/// marked with caution. A real tube keeps the wall ahead of its folds round (below 0.2 t); the
-/// ring-folding runs of docs/folding.md §6 read at most 0.03 t; the caution starts at 2.5 times
-/// the 0.2 t, leaving room for the measure's own error on a slice next to a fold.
+/// How much more oval than the folds make it the unfolded wall may be, in wall thicknesses,
+/// before a crush is marked with caution. The folds' own two lobes reach along an elastic tube
+/// (`reference::shell`: over 39 mm on the d/t 14 PVC tube, more than a fold length), so what is
+/// judged is the oval beyond that reach (`ModeDetail::unfolded_excess_two_lobe_mm`). The
+/// ring-folding runs of docs/folding.md §6 read at most 0.03 t of oval; the caution starts at
+/// half the wall, leaving room for the measure's own error on a slice next to a fold.
 pub const OVAL_CAUTION_T: f64 = 0.5;
+
+/// How far an end ring may spread on its plate, over the tube's radius, before a crush is
+/// marked with caution (`ModeDetail::end_spread`). The folding runs of docs/folding.md keep
+/// both ends within 1.07 (the paper's tube 0.98, the aluminium tubes 1.03, the PVC tubes on
+/// μ 0.3 plates 1.07); an end flattened shut spreads to π/2 ≈ 1.57, and the runs whose far end
+/// squashed into a pouch read 1.54–1.62 (the leaning, lobed foot of the t 0.76 example 1.31).
+pub const END_SPREAD_CAUTION: f64 = 1.25;
 
 /// The verdict of a finished run: the foreseen reasons and those its numbers and its final
 /// shape (`detail`) show.
@@ -222,18 +234,40 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
         summary.mode,
         CollapseMode::Ring | CollapseMode::Diamond { .. }
     );
-    if folding && detail.unfolded_two_lobe_mm > OVAL_CAUTION_T * t {
+    if folding && detail.unfolded_excess_two_lobe_mm > OVAL_CAUTION_T * t {
         reasons.push(Reason {
             rule: Rule::OvalisedWall,
             level: Level::Caution,
             detail: format!(
-                "the wall not yet folded went oval: two lobes of {:.2} mm ({:.1} t) at {:.0} mm \
-                 from the fixed end before the crush (over {OVAL_CAUTION_T} t; a real tube's \
-                 stays within 0.2 t), so the tube did not fold progressively with the rest \
-                 round and its load is not that of a progressive crush (docs/folding.md §6)",
-                detail.unfolded_two_lobe_mm,
-                detail.unfolded_two_lobe_mm / t,
-                detail.unfolded_two_lobe_at_mm,
+                "the wall not yet folded went oval beyond what the folds' own ovals leave on an \
+                 elastic tube: {:.2} mm ({:.1} t) more than that at {:.0} mm from the fixed end \
+                 before the crush (over {OVAL_CAUTION_T} t; the folds' two lobes {:.2} mm, \
+                 carried over an e-folding length of {:.0} mm), so the tube did not fold \
+                 progressively with the rest as the folds leave it, and its load is not that \
+                 of a progressive crush (docs/folding.md §6)",
+                detail.unfolded_excess_two_lobe_mm,
+                detail.unfolded_excess_two_lobe_mm / t,
+                detail.unfolded_excess_two_lobe_at_mm,
+                detail.folds_two_lobe_mm,
+                detail.two_lobe_decay_mm,
+            ),
+        });
+    }
+    let spread = detail.end_spread[0].max(detail.end_spread[1]);
+    if folding && spread > END_SPREAD_CAUTION {
+        let end = match detail.end_spread[0] >= detail.end_spread[1] {
+            true => "bottom (fixed)",
+            false => "top (moving)",
+        };
+        reasons.push(Reason {
+            rule: Rule::FlattenedEnd,
+            level: Level::Caution,
+            detail: format!(
+                "the {end} end spread to {spread:.2} times the tube's radius on its plate (over \
+                 {END_SPREAD_CAUTION}; an end flattened shut reaches π/2 ≈ 1.57): it squashed \
+                 into a pouch instead of folding, so its load is not that of a progressive \
+                 crush; a platen's friction (contact.friction 0.3) holds the end \
+                 (docs/folding.md §3)"
             ),
         });
     }

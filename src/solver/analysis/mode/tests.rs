@@ -304,6 +304,12 @@ fn the_unfolded_wall_s_oval_is_read_below_the_folds_and_only_there() {
         oval.unfolded_two_lobe_at_mm < l - zone - clear && oval.unfolded_slices > 0,
         "{oval:?}"
     );
+    // Three-lobe folds carry no oval of their own: the whole oval is beyond them.
+    assert!(oval.folds_two_lobe_mm < 0.05, "{oval:?}");
+    assert!(
+        (oval.unfolded_excess_two_lobe_mm - oval.unfolded_two_lobe_mm).abs() < 0.05,
+        "{oval:?}"
+    );
     let (_, round) = detect_mode(&case, &build(0.0, false));
     assert!(round.unfolded_two_lobe_mm < 0.01, "{round:?}");
     assert_eq!(round.unfolded_slices, oval.unfolded_slices);
@@ -313,4 +319,89 @@ fn the_unfolded_wall_s_oval_is_read_below_the_folds_and_only_there() {
         (0, 0.0),
         "{strained:?}"
     );
+}
+
+/// The top 30 mm holds two-lobe hinges (oval by 2 mm, ε_p 0.5); the wall below carries that
+/// oval down as an elastic tube does, `times` the shell's envelope 2 e^(−x/ℓ) at x below the
+/// hinges. At once the envelope, the wall is no more oval than the folds make it; at three
+/// times, what it holds beyond the envelope is read, at the slice nearest the folds.
+#[test]
+fn an_oval_the_folds_carry_down_an_elastic_wall_is_not_beyond_them() {
+    let case = axial_case();
+    let l = case.spec().tube.length_mm;
+    let section = case.geometry().section;
+    let (t, d) = (section.thickness_mm(), section.width_mm());
+    let decay = lobe_decay_mm(0.5 * d, t, case.spec().material.poisson_ratio, 2);
+    let start = l - 30.0;
+    let build = |times: Real| {
+        let mut snap = tube(&case, |z, th, r| {
+            let oval = if z > start {
+                2.0
+            } else {
+                times * 2.0 * (-(start - z) / decay).exp()
+            };
+            radial(z, th, r, oval * (2.0 * th).cos())
+        });
+        for (e, p0) in snap.plastic_strain.iter_mut().zip(&snap.initial_mm) {
+            *e = if p0[2] > start { 0.5 } else { 0.0 };
+        }
+        snap
+    };
+    let (_, carried) = detect_mode(&case, &build(1.0));
+    assert!(
+        (carried.folds_two_lobe_mm - 2.0).abs() < 0.05,
+        "{carried:?}"
+    );
+    assert_eq!(carried.two_lobe_decay_mm, decay);
+    assert!(carried.unfolded_two_lobe_mm > 0.5, "{carried:?}");
+    // Only the slices' width (the nearest hinged slice's centre lies above the zone's edge)
+    // separates the wall's oval from the envelope: 2 h / ℓ of it at most.
+    let slack = 2.0 * case.spacing_mm() / decay * carried.unfolded_two_lobe_mm;
+    assert!(
+        carried.unfolded_excess_two_lobe_mm <= slack,
+        "{carried:?} slack {slack}"
+    );
+    let (_, beyond) = detect_mode(&case, &build(3.0));
+    let clear = 0.5 * fold_length_mm(&case);
+    let want = 2.0 * 2.0 * (-clear / decay).exp();
+    assert!(
+        (beyond.unfolded_excess_two_lobe_mm / want - 1.0).abs() < 0.2,
+        "{beyond:?} want {want}"
+    );
+    assert!(
+        beyond.unfolded_excess_two_lobe_at_mm < start - clear
+            && beyond.unfolded_excess_two_lobe_at_mm > start - clear - 4.0 * case.spacing_mm(),
+        "{beyond:?}"
+    );
+}
+
+/// An end ring flattened shut on its plate (each particle laid along a line at its arc length,
+/// the two halves of the ring pressed together) spreads to π/2 of its radius about its centre;
+/// a round end stays at its own radius over d/2.
+#[test]
+fn an_end_ring_flattened_shut_spreads_to_half_its_perimeter() {
+    let case = axial_case();
+    let h = case.spacing_mm();
+    let d = case.geometry().section.width_mm();
+    let flat = tube(&case, |z, th, r| {
+        if z > h {
+            return radial(z, th, r, 0.0);
+        }
+        // Arc length from θ = π/2, folded back at θ = 0 and π; the halves 0.1 mm apart.
+        let (x, y) = match th <= PI {
+            true => (r * (th - PI / 2.0), 0.05),
+            false => (r * (1.5 * PI - th), -0.05),
+        };
+        [x, y, z]
+    });
+    let (_, detail) = detect_mode(&case, &flat);
+    // The outermost layer sets it: r_out = d/2 + t/2 − h/2.
+    let t = case.geometry().section.thickness_mm();
+    let outer = (0.5 * d + 0.5 * t - 0.5 * h) / (0.5 * d);
+    let want = PI / 2.0 * outer;
+    assert!(
+        (detail.end_spread[0] - want).abs() < 0.02,
+        "{detail:?} want {want}"
+    );
+    assert!((detail.end_spread[1] - outer).abs() < 0.01, "{detail:?}");
 }

@@ -235,11 +235,16 @@ fn a_reason_s_words_are_one_space_apart() {
 
 #[test]
 fn an_ovalised_unfolded_wall_is_caution_on_a_folding_tube_only() {
-    // The default tube's wall is 3.2 mm: the caution starts past 0.5 t = 1.6 mm.
+    // The default tube's wall is 3.2 mm: the caution starts past 0.5 t = 1.6 mm of oval
+    // beyond what the folds' ovals carry.
     let c = case("{}");
     let oval = |mm: f64| ModeDetail {
-        unfolded_two_lobe_mm: mm,
+        unfolded_two_lobe_mm: mm + 1.0,
         unfolded_two_lobe_at_mm: 20.0,
+        unfolded_excess_two_lobe_mm: mm,
+        unfolded_excess_two_lobe_at_mm: 20.0,
+        folds_two_lobe_mm: 3.0,
+        two_lobe_decay_mm: 13.6,
         ..Default::default()
     };
     let s = summary(0.0, 0.0);
@@ -247,11 +252,25 @@ fn an_ovalised_unfolded_wall_is_caution_on_a_folding_tube_only() {
     let v = of_run(&c, &s, &oval(2.0));
     assert_eq!(rules(&v.reasons), [(Rule::OvalisedWall, Level::Caution)]);
     let said = &v.reasons[0].detail;
-    assert!(said.contains("2.00 mm (0.6 t) at 20 mm"), "{said}");
+    assert!(
+        said.contains("2.00 mm (0.6 t) more than that at 20 mm"),
+        "{said}"
+    );
+    assert!(
+        said.contains("two lobes 3.00 mm") && said.contains("length of 14 mm"),
+        "{said}"
+    );
     assert!(!said.contains("  "), "{said}");
     let mut diamond = summary(0.0, 0.0);
     diamond.mode = CollapseMode::Diamond { lobes: 2 };
     assert_eq!(of_run(&c, &diamond, &oval(2.0)).level, Level::Caution);
+    // An oval wall within the folds' reach is what an elastic tube does: not a caution.
+    let carried = ModeDetail {
+        unfolded_two_lobe_mm: 6.0,
+        unfolded_excess_two_lobe_mm: 0.3,
+        ..oval(0.0)
+    };
+    assert_eq!(of_run(&c, &diamond, &carried).level, Level::Trusted);
     // A column that bent or tipped over is judged by its own rules, not by its roundness.
     for mode in [CollapseMode::GlobalBuckling, CollapseMode::TippedOver] {
         let mut s = summary(0.0, 0.0);
@@ -259,6 +278,46 @@ fn an_ovalised_unfolded_wall_is_caution_on_a_folding_tube_only() {
         let v = of_run(&c, &s, &oval(5.0));
         assert!(
             !rules(&v.reasons).iter().any(|r| r.0 == Rule::OvalisedWall),
+            "{mode:?}"
+        );
+    }
+}
+
+#[test]
+fn an_end_flattened_on_its_plate_is_caution_on_a_folding_tube_only() {
+    let c = case("{}");
+    let spread = |bottom: f64, top: f64| ModeDetail {
+        end_spread: [bottom, top],
+        ..Default::default()
+    };
+    let mut diamond = summary(0.0, 0.0);
+    diamond.mode = CollapseMode::Diamond { lobes: 2 };
+    assert_eq!(
+        of_run(&c, &diamond, &spread(1.1, 1.05)).level,
+        Level::Trusted
+    );
+    let v = of_run(&c, &diamond, &spread(1.57, 1.0));
+    assert_eq!(rules(&v.reasons), [(Rule::FlattenedEnd, Level::Caution)]);
+    let said = &v.reasons[0].detail;
+    assert!(
+        said.contains("the bottom (fixed) end spread to 1.57 times"),
+        "{said}"
+    );
+    assert!(!said.contains("  "), "{said}");
+    let v = of_run(&c, &diamond, &spread(1.0, 1.3));
+    assert!(
+        v.reasons[0]
+            .detail
+            .contains("top (moving) end spread to 1.30"),
+        "{v:?}"
+    );
+    // A column that bent or tipped over is judged by its own rules.
+    for mode in [CollapseMode::GlobalBuckling, CollapseMode::TippedOver] {
+        let mut s = summary(0.0, 0.0);
+        s.mode = mode;
+        let v = of_run(&c, &s, &spread(1.6, 1.6));
+        assert!(
+            !rules(&v.reasons).iter().any(|r| r.0 == Rule::FlattenedEnd),
             "{mode:?}"
         );
     }
