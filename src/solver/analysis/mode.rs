@@ -664,33 +664,33 @@ fn end_lifts(snapshot: &Snapshot, [ax, ..]: [usize; 3], h: Real) -> [Real; 2] {
 /// Per end ring (the particles within h/2 of the tube's initial bottom, top), the largest
 /// distance of a particle from the ring's own current centroid across the axis, mm.
 fn end_spreads(snapshot: &Snapshot, [ax, a, b]: [usize; 3], h: Real) -> [Real; 2] {
-    let pairs = || {
-        snapshot
-            .initial_mm
+    let pairs: Vec<(&[Real; 3], &[Real; 3])> = snapshot
+        .initial_mm
+        .iter()
+        .zip(&snapshot.position_mm)
+        .filter(|(p0, p)| p0[ax].is_finite() && p.iter().all(|x| x.is_finite()))
+        .collect();
+    let (lo0, hi0) = pairs
+        .iter()
+        .fold((Real::MAX, Real::MIN), |(lo, hi), (p0, _)| {
+            (lo.min(p0[ax]), hi.max(p0[ax]))
+        });
+    let mut rings: [Vec<[Real; 2]>; 2] = Default::default();
+    for (p0, p) in &pairs {
+        if p0[ax] <= lo0 + 0.5 * h {
+            rings[0].push([p[a], p[b]]);
+        }
+        if p0[ax] >= hi0 - 0.5 * h {
+            rings[1].push([p[a], p[b]]);
+        }
+    }
+    rings.map(|ring| {
+        let n = ring.len().max(1) as Real;
+        let c = ring
             .iter()
-            .zip(&snapshot.position_mm)
-            .filter(|(p0, p)| p0[ax].is_finite() && p.iter().all(|x| x.is_finite()))
-    };
-    let (lo0, hi0) = pairs().fold((Real::MAX, Real::MIN), |(lo, hi), (p0, _)| {
-        (lo.min(p0[ax]), hi.max(p0[ax]))
-    });
-    let in_ring = |end: usize, z0: Real| match end {
-        0 => z0 <= lo0 + 0.5 * h,
-        _ => z0 >= hi0 - 0.5 * h,
-    };
-    [0, 1].map(|end| {
-        let (mut sum, mut n) = ([0.0; 2], 0usize);
-        for (_, p) in pairs().filter(|(p0, _)| in_ring(end, p0[ax])) {
-            sum = [sum[0] + p[a], sum[1] + p[b]];
-            n += 1;
-        }
-        if n == 0 {
-            return 0.0;
-        }
-        let c = sum.map(|x| x / n as Real);
-        pairs()
-            .filter(|(p0, _)| in_ring(end, p0[ax]))
-            .map(|(_, p)| (p[a] - c[0]).hypot(p[b] - c[1]))
+            .fold([0.0; 2], |c, q| [c[0] + q[0] / n, c[1] + q[1] / n]);
+        ring.iter()
+            .map(|q| (q[0] - c[0]).hypot(q[1] - c[1]))
             .fold(0.0, Real::max)
     })
 }
