@@ -220,9 +220,11 @@ pub const OVAL_CAUTION_T: f64 = 0.5;
 
 /// How far an end ring may spread on its plate, over the tube's radius, before a crush is
 /// marked with caution (`ModeDetail::end_spread`). The folding runs of docs/folding.md keep
-/// both ends within 1.18 (the paper's tube 0.98, the aluminium tubes 1.03, the PVC tubes on
-/// μ 0.3 plates 0.94–1.18); an end flattened shut spreads to π/2 ≈ 1.57, and the runs whose far end
-/// squashed into a pouch read 1.54–1.62 (the leaning, lobed foot of the t 0.76 example 1.31).
+/// both ends within 1.18 where their ends fold (the paper's tube 0.98, the aluminium tubes
+/// 1.03, the PVC tubes on μ 0.3 plates 0.94–1.18); an end flattened shut spreads to
+/// π/2 ≈ 1.57, and the runs whose far end squashed into a pouch read 1.54–1.62 (the leaning,
+/// lobed foot of the t 0.76 example 1.31; the d20 tube's foot on μ 0.3 plates, half as
+/// spread as on μ 0.02, 1.28).
 pub const END_SPREAD_CAUTION: f64 = 1.25;
 
 /// The verdict of a finished run: the foreseen reasons and those its numbers and its final
