@@ -31,11 +31,16 @@ pub fn lobe_decay_mm(r: f64, t: f64, nu: f64, m: u32) -> f64 {
     1.0 / slowest_root(r, t, nu, m).re.abs()
 }
 
+/// Morley's equation as ((s − a)(s − b))² = −c s², s = λ²: (a, b, c), 1/mm², 1/mm² and 1/mm⁴.
+fn coefficients(r: f64, t: f64, nu: f64, m: u32) -> (f64, f64, f64) {
+    let m2 = f64::from(m * m);
+    let c = 12.0 * (1.0 - nu * nu) / (t * t * r * r);
+    (m2 / (r * r), (m2 - 1.0) / (r * r), c)
+}
+
 /// The root λ (1/mm) of Morley's equation with the smallest |Re λ| (module doc).
 fn slowest_root(r: f64, t: f64, nu: f64, m: u32) -> Complex<f64> {
-    let m2 = f64::from(m * m);
-    let (a, b) = (m2 / (r * r), (m2 - 1.0) / (r * r));
-    let c = 12.0 * (1.0 - nu * nu) / (t * t * r * r);
+    let (a, b, c) = coefficients(r, t, nu, m);
     [1.0, -1.0]
         .into_iter()
         .flat_map(|sign| {
@@ -49,21 +54,19 @@ fn slowest_root(r: f64, t: f64, nu: f64, m: u32) -> Complex<f64> {
         .expect("four roots")
 }
 
-/// Calladine's semi-membrane e-folding length for `m` lobes, mm (module doc).
-pub fn semi_membrane_decay_mm(r: f64, t: f64, nu: f64, m: u32) -> f64 {
-    let m2 = f64::from(m * m);
-    r * (r / t).sqrt() * (48.0 * (1.0 - nu * nu)).powf(0.25) / ((m2 - 1.0) * m2).sqrt()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// Calladine's semi-membrane e-folding length for `m` lobes, mm (module doc).
+    fn semi_membrane_decay_mm(r: f64, t: f64, nu: f64, m: u32) -> f64 {
+        let m2 = f64::from(m * m);
+        r * (r / t).sqrt() * (48.0 * (1.0 - nu * nu)).powf(0.25) / ((m2 - 1.0) * m2).sqrt()
+    }
+
     /// Morley's characteristic polynomial at λ (module doc), divided by D.
     fn residual(r: f64, t: f64, nu: f64, m: u32, lambda: Complex<f64>) -> f64 {
-        let m2 = f64::from(m * m);
-        let (a, b) = (m2 / (r * r), (m2 - 1.0) / (r * r));
-        let c = 12.0 * (1.0 - nu * nu) / (t * t * r * r);
+        let (a, b, c) = coefficients(r, t, nu, m);
         let s = lambda * lambda;
         let p = ((s - a) * (s - b)).powi(2) + c * s * s;
         p.norm() / (c * s.norm() * s.norm())
