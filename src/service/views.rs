@@ -2,6 +2,7 @@
 //! its table in [`sweep`]. Times are RFC 3339 (UTC).
 
 mod sweep;
+mod time_step;
 
 pub use sweep::{SweepListItem, SweepPage, SweepView};
 

@@ -25,5 +25,6 @@ mod restart;
 mod results;
 mod series;
 mod store;
+mod time_step;
 mod timeouts;
 mod views;

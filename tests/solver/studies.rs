@@ -81,6 +81,61 @@ fn convergence_study_writes_consistent_errors_and_plots() {
     }
 }
 
+/// The step ladder: each halving of α about doubles the steps, and the energy books' residual,
+/// first order in Δt on an axial crush (docs/folding.md §5), shrinks with it.
+#[test]
+fn step_study_halves_the_books_residual_with_the_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = tiny_case(dir.path());
+    let (ok, stdout, stderr) = crush(
+        &[
+            "study",
+            "step",
+            case.to_str().unwrap(),
+            "--cfl",
+            "0.5,0.25,0.125",
+            "--threads",
+            "1",
+            "--out",
+            "step",
+        ],
+        dir.path(),
+    );
+    assert!(ok, "{stdout}\n{stderr}");
+    assert!(stdout.contains("| α | steps"), "{stdout}");
+    let out = dir.path().join("step");
+    let mut csv = csv::Reader::from_path(out.join("step.csv")).unwrap();
+    let header = csv.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = csv.records().map(|r| r.unwrap()).collect();
+    let num = |r: &csv::StringRecord, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let cfl: Vec<f64> = rows.iter().map(|r| num(r, "cfl")).collect();
+    assert_eq!(cfl, [0.5, 0.25, 0.125]);
+    let smallest = &rows[2];
+    for w in rows.windows(2) {
+        let ratio = num(&w[1], "steps") / num(&w[0], "steps");
+        assert!((1.8..=2.2).contains(&ratio), "steps ratio {ratio}");
+        let (big, small) = (
+            num(&w[0], "energy_balance_error"),
+            num(&w[1], "energy_balance_error"),
+        );
+        assert!(small < 0.75 * big, "books {big} → {small}");
+    }
+    for r in &rows {
+        let expect = num(r, "mean_load_n") / num(smallest, "mean_load_n") - 1.0;
+        assert!((num(r, "mean_error_vs_smallest_step") - expect).abs() < 1e-5);
+    }
+    for f in ["report.md", "error_vs_time.svg", "load_curves.png"] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    // A step the solver cannot take is refused before any run, the flag named.
+    let (ok, stdout, stderr) = crush(
+        &["study", "step", case.to_str().unwrap(), "--cfl", "0.5,0"],
+        dir.path(),
+    );
+    assert!(!ok && stderr.contains("--cfl 0"), "{stdout}\n{stderr}");
+}
+
 #[test]
 fn stability_study_passes_refuses_and_names_every_variant() {
     let dir = tempfile::tempdir().unwrap();

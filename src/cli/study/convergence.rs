@@ -2,7 +2,10 @@
 //! error of mean and peak load against the finest run and a Richardson estimate, against run
 //! time; the load curves overlaid.
 
-use super::{pct, plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
+use super::{
+    pct, plot_load_curves, read_case, run_case, set, threads, write_extrapolations, write_report,
+    Failed,
+};
 use crate::plot::{self, Series};
 use crate::solver::CollapseMode;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint, TRUSTED_ORDERS};
@@ -138,29 +141,14 @@ fn report(
                 pct(Some(r.mean_vs_reference)),
             );
         }
-        for (what, e) in [
-            ("mean", g.mean_extrapolation),
-            ("peak", g.peak_extrapolation),
-        ] {
-            let _ = match e {
-                Some(e) => writeln!(
-                    s,
-                    "\nRichardson, {what} load: f* = {:.3} kN, observed order p = {:.2}{}.",
-                    e.value / 1e3,
-                    e.order,
-                    if e.trustworthy {
-                        ""
-                    } else {
-                        " — not trusted (p outside the accepted range)"
-                    }
-                ),
-                None => writeln!(
-                    s,
-                    "\nRichardson, {what} load: none (fewer than three resolutions, or the \
-                     values do not converge monotonically)."
-                ),
-            };
-        }
+        write_extrapolations(
+            &mut s,
+            "resolutions",
+            [
+                ("mean", g.mean_extrapolation),
+                ("peak", g.peak_extrapolation),
+            ],
+        );
         let tol = args.tolerance;
         let _ = match g.cheapest_within(tol) {
             Some(r) => writeln!(

@@ -1,10 +1,11 @@
-//! `crush study convergence | stability | speed`: sets of runs of one case, varied, and what
+//! `crush study convergence | step | stability | speed`: sets of runs of one case, varied, and what
 //! they say about accuracy, cost and robustness. Each writes a markdown report, CSV and plots
 //! into its output directory and prints the report.
 
 mod convergence;
 mod speed;
 mod stability;
+mod step;
 
 use crate::plot::{self, Series};
 use crate::solver::engine::scene::Scene;
@@ -22,6 +23,7 @@ use std::time::Instant;
 pub use convergence::ConvergenceArgs;
 pub use speed::SpeedArgs;
 pub use stability::StabilityArgs;
+pub use step::StepArgs;
 
 /// Arguments of `crush study`.
 #[derive(Debug, Clone, clap::Args)]
@@ -34,6 +36,8 @@ pub struct StudyArgs {
 pub enum StudyKind {
     /// Error of mean and peak load against resolution and run time.
     Convergence(ConvergenceArgs),
+    /// Error of mean and first-peak load and the energy books against the time step and run time.
+    Step(StepArgs),
     /// Stiff and extreme variants of a case: completes cleanly or stops with a diagnosis.
     Stability(StabilityArgs),
     /// The case at several plate speeds: rate independence and the quasi-static check.
@@ -43,6 +47,7 @@ pub enum StudyKind {
 pub fn study(args: StudyArgs) -> anyhow::Result<()> {
     match args.kind {
         StudyKind::Convergence(a) => convergence::run(a),
+        StudyKind::Step(a) => step::run(a),
         StudyKind::Stability(a) => stability::run(a),
         StudyKind::Speed(a) => speed::run(a),
     }
@@ -170,6 +175,36 @@ pub fn write_report(out: &Path, text: &str) -> anyhow::Result<()> {
     println!("{text}");
     eprintln!("wrote {}", out.display());
     Ok(())
+}
+
+/// One line per load of a ladder's Richardson estimate (kN), or why there is none: fewer than
+/// three `rungs` (resolutions, steps), or differences that change sign or do not shrink.
+pub fn write_extrapolations(
+    s: &mut String,
+    rungs: &str,
+    loads: [(&str, Option<crate::study::convergence::Extrapolation>); 2],
+) {
+    use std::fmt::Write as _;
+    for (what, e) in loads {
+        let _ = match e {
+            Some(e) => writeln!(
+                s,
+                "\nRichardson, {what} load: f* = {:.3} kN, observed order p = {:.2}{}.",
+                e.value / 1e3,
+                e.order,
+                if e.trustworthy {
+                    ""
+                } else {
+                    " — not trusted (p outside the accepted range)"
+                }
+            ),
+            None => writeln!(
+                s,
+                "\nRichardson, {what} load: none (fewer than three {rungs}, or the differences \
+                 between successive {rungs} change sign or do not shrink)."
+            ),
+        };
+    }
 }
 
 /// `x` as a signed percentage with one decimal, or "–".

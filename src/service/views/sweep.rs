@@ -1,11 +1,13 @@
 //! The sweep as the API shows it: its parameters, one table row per job with the key numbers
 //! of its typed summary (N, mJ, s), and for a resolution sweep the convergence analysis.
 
+use super::time_step::{time_steps, StepGroupView};
 use super::{json, rfc3339};
 use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
 use crate::solver::Summary;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use crate::study::ensemble::{Distribution, SEED_FIELD};
+use crate::study::step::STEP_FIELD;
 use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
@@ -224,6 +226,10 @@ pub struct SweepView {
     /// values, the distribution of its finished runs.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ensemble: Option<Vec<EnsembleGroup>>,
+    /// When the sweep varies `discretization.cfl`: per group of the other swept values, the
+    /// time step's share of the error and the books at each step (`crush study step`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_step: Option<Vec<StepGroupView>>,
 }
 
 /// One group of an ensemble: the runs that differ only in their seed.
@@ -414,7 +420,7 @@ fn group_key(fields: &[String], values: &Value) -> String {
 }
 
 /// The swept values other than `left_out`, sorted, as one string.
-fn key_without(fields: &[String], values: &Value, left_out: &str) -> String {
+pub(super) fn key_without(fields: &[String], values: &Value, left_out: &str) -> String {
     let mut parts: Vec<String> = fields
         .iter()
         .filter(|f| *f != left_out)
@@ -454,6 +460,10 @@ impl SweepView {
         if ensemble.is_some() {
             columns.extend(ENSEMBLE_COLUMNS.iter().map(|s| s.to_string()));
         }
+        let time_step = fields
+            .iter()
+            .any(|f| f == STEP_FIELD)
+            .then(|| time_steps(&fields, jobs));
         let rows = jobs
             .iter()
             .map(|j| {
@@ -483,6 +493,7 @@ impl SweepView {
         SweepView {
             convergence: convergence.map(|c| c.groups.into_iter().map(GroupView::new).collect()),
             ensemble,
+            time_step,
             id: s.id,
             label: s.label.clone(),
             created_at: rfc3339(s.created_at),

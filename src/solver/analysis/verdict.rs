@@ -303,7 +303,7 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
                 "the energy books close to {:.1} % of the plates' work (over {:.0} % is {}); \
                  their error is mostly the time step's, first order in it: \
                  discretization.cfl {} (half the case's) roughly halves it at twice the steps \
-                 (docs/folding.md §5)",
+                 (docs/folding.md §5; `crush study step` measures it and the load's share)",
                 100.0 * e,
                 100.0 * over,
                 level.name().replace('_', " "),
