@@ -9,6 +9,7 @@
 //! 1 is what a sound ladder shows; the books' residual is expected to shrink with α as well.
 
 use super::convergence::{richardson, Extrapolation};
+use crate::solver::CollapseMode;
 use schemars::JsonSchema;
 use serde::Serialize;
 
@@ -27,6 +28,10 @@ pub struct StepPoint {
     pub first_peak_n: Option<f64>,
     /// The books' largest share of the plates' work left unexplained over the run.
     pub energy_balance_error: f64,
+    /// The collapse mode and folds the run ended in: a step that changes them changes the
+    /// answer's kind, not its digits.
+    pub mode: CollapseMode,
+    pub folds: u32,
 }
 
 impl StepPoint {
@@ -39,6 +44,8 @@ impl StepPoint {
             mean_load_n: s.mean_load_n,
             first_peak_n: s.measures.first_peak_load_n,
             energy_balance_error: s.energy_balance_error,
+            mode: s.mode,
+            folds: s.folds,
         }
     }
 }
@@ -162,6 +169,8 @@ mod tests {
             mean_load_n: f_star + c * cfl,
             first_peak_n: Some(2.0 * f_star + 0.5 * c * cfl),
             energy_balance_error: books,
+            mode: CollapseMode::Ring,
+            folds: 3,
         }
     }
 

@@ -36,6 +36,8 @@ async fn a_sweep_over_the_step_reads_the_time_step_error_and_the_books() {
         let job = of(r["cfl"].as_f64().unwrap());
         assert_eq!(r["mean_load_n"], job["mean_load_n"]);
         assert_eq!(r["steps"], job["steps"]);
+        assert_eq!(r["mode"]["kind"], job["mode"], "{r}");
+        assert_eq!(r["folds"], job["folds"]);
         let expect = r["mean_load_n"].as_f64().unwrap() / smallest - 1.0;
         let got = r["mean_error_vs_finest"].as_f64().unwrap();
         assert!((got - expect).abs() < 1e-12, "{r}");

@@ -124,6 +124,8 @@ fn step_study_halves_the_books_residual_with_the_step() {
     for r in &rows {
         let expect = num(r, "mean_load_n") / num(smallest, "mean_load_n") - 1.0;
         assert!((num(r, "mean_error_vs_smallest_step") - expect).abs() < 1e-5);
+        // Each step's mode is the one its run ended in, named as the ensemble names it.
+        assert!(!r[col("mode")].is_empty() && r[col("folds")].parse::<u32>().is_ok());
     }
     for f in ["report.md", "error_vs_time.svg", "load_curves.png"] {
         assert!(out.join(f).exists(), "{f} missing");

@@ -7,6 +7,7 @@ use super::{
     Failed,
 };
 use crate::plot::{self, Series};
+use crate::study::ensemble::mode_label;
 use crate::study::step::{StepAnalysis, StepPoint, STEP_FIELD};
 use anyhow::Context;
 use std::fmt::Write as _;
@@ -84,14 +85,14 @@ fn report(args: &StepArgs, a: Option<&StepAnalysis>, stopped: &[String]) -> Stri
     let _ = writeln!(
         s,
         "| α | steps | wall s | mean kN | mean err vs smallest step | mean err vs Richardson | \
-         first peak kN | first peak err vs smallest step | energy balance |"
+         first peak kN | first peak err vs smallest step | mode | folds | energy balance |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &a.rows {
         let p = &r.run;
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.3} | {} | {} | {} | {} | {:.2} % |",
+            "| {} | {} | {:.1} | {:.3} | {} | {} | {} | {} | {} | {} | {:.2} % |",
             p.cfl,
             p.steps,
             p.wall_time_s,
@@ -101,6 +102,8 @@ fn report(args: &StepArgs, a: Option<&StepAnalysis>, stopped: &[String]) -> Stri
             p.first_peak_n
                 .map_or("–".into(), |v| format!("{:.3}", v / 1e3)),
             pct(r.first_peak_error_vs_finest),
+            mode_label(&p.mode),
+            p.folds,
             100.0 * p.energy_balance_error,
         );
     }
@@ -174,6 +177,8 @@ fn write_csv(path: &Path, a: &StepAnalysis) -> anyhow::Result<()> {
         "mean_error_vs_richardson",
         "first_peak_load_n",
         "first_peak_error_vs_smallest_step",
+        "mode",
+        "folds",
         "energy_balance_error",
     ])?;
     let opt = |x: Option<f64>, digits: usize| x.map_or(String::new(), |x| format!("{x:.digits$}"));
@@ -188,6 +193,8 @@ fn write_csv(path: &Path, a: &StepAnalysis) -> anyhow::Result<()> {
             opt(r.mean_error_vs_richardson, 6),
             opt(p.first_peak_n, 3),
             opt(r.first_peak_error_vs_finest, 6),
+            mode_label(&p.mode),
+            p.folds.to_string(),
             format!("{:.6}", p.energy_balance_error),
         ])?;
     }
