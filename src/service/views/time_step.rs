@@ -1,6 +1,6 @@
 //! A sweep over `discretization.cfl` as the API shows it: per group of the other swept values,
 //! the time-step analysis of its finished runs (`crate::study::step`), the cheapest step within
-//! 2 % of the best estimate of the mean load, and the step from which on the books close within
+//! 2 % of the best estimate of the mean load (least wall time), and the step from which on the books close within
 //! the verdict's 2 %. Loads in N, time in s.
 
 use super::json;
@@ -22,8 +22,8 @@ pub struct StepGroupView {
     pub group: String,
     /// Null until a run of the group has succeeded.
     pub analysis: Option<StepAnalysis>,
-    /// The largest step whose mean load, and every smaller step's, is within 2 % of the
-    /// Richardson value (when trusted) or of the smallest step's; null when none is.
+    /// The step of least wall time whose mean load, and every smaller step's, is within 2 % of
+    /// the Richardson value (when trusted) or of the smallest step's; null when none is.
     pub cfl_within_2_percent: Option<f64>,
     /// The largest step from which on the energy books close within 2 %; null when none does.
     pub cfl_books_within_2_percent: Option<f64>,
