@@ -1,6 +1,8 @@
 //! Physics of the engine against closed forms and conservation laws. Each test states its
 //! tolerance and why. Scenes are small so that the suite stays fast in CI.
 
+use crush::solver::engine::grid::{Full, Remap};
+use crush::solver::engine::kernel::{Clock, Phases};
 use crush::solver::engine::particles::Particles;
 use crush::solver::engine::scene::{Plate, Ramp, Scene};
 use crush::solver::engine::shape::{Bspline, Gimp, Linear, Stencil};
@@ -216,56 +218,77 @@ fn momentum_is_conserved_without_plates() {
     });
 }
 
-/// A block (3 × 3 × 6 mm) squeezed between frictionless plates past three times its yield
-/// strain is in uniaxial stress: the load must settle at σy times the current area, within 5 %
-/// (1 % for the stress wave ρcv ≈ 0.7 MPa at 0.2 m/s, 4 % for the area, estimated as total
-/// volume over plate gap). Measured: 0.95–0.97 (trilinear) and 0.96–1.02 (uGIMP). No particle
-/// may ever lie outside the yield surface.
+/// A block squeezed between frictionless plates past three times its yield strain at 0.2 m/s:
+/// the load over each 500 steps once past twice the yield strain, over σy times the current
+/// area (total volume over plate gap). No particle may ever lie outside the yield surface.
+/// Returns those ratios. `h` is the particle spacing (cell 2h); the block is 6 × 6 × 12 mm
+/// times h/0.5.
+fn squeeze<S: Stencil>(h: f64) -> Vec<f64> {
+    let k = (0.5 / h).round() as usize;
+    let mut scene = block([6 * k, 6 * k, 12 * k], h, pvc());
+    let top = 12.0 * k as f64 * h + 0.07;
+    scene.plates = vec![
+        Plate {
+            z: top,
+            side: 1.0,
+            velocity: -0.2,
+            full_velocity: -0.2,
+        },
+        Plate {
+            z: 0.07,
+            side: -1.0,
+            velocity: 0.0,
+            full_velocity: 0.0,
+        },
+    ];
+    let mut sim = Simulation::<S>::new(scene);
+    let yield_strain = 65.5 / 3378.4;
+    let (mut impulse, mut span) = (0.0, 0.0);
+    let mut ratios = vec![];
+    while sim.state.time * 0.2 < 3.0 * yield_strain * top {
+        let info = sim.step(1.0).unwrap();
+        impulse += info.contact.impulse[0];
+        span += info.dt;
+        if sim.state.steps.is_multiple_of(500 * k as u64) {
+            let p = &sim.state.scene.particles;
+            assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
+            let height = sim.state.scene.plates[0].z - sim.state.scene.plates[1].z;
+            let area = p.vol.iter().sum::<f64>() / height;
+            if sim.state.time * 0.2 > 2.0 * yield_strain * top {
+                ratios.push(impulse / span / area / 65.5);
+            }
+            impulse = 0.0;
+            span = 0.0;
+        }
+    }
+    assert!(ratios.len() >= 3);
+    ratios
+}
+
+/// A block (3 × 3 × 6 mm, two particles a cell) squeezed between frictionless plates is in
+/// uniaxial stress once it yields: the load must settle at σy times the current area, within
+/// 5 % (1 % for the stress wave ρcv ≈ 0.7 MPa at 0.2 m/s, 4 % for the area, estimated as total
+/// volume over plate gap). Measured: uGIMP 0.96–1.02, B-splines 1.00–1.02. Linear shapes carry
+/// less: a particle touching a plate gives mass to the node plane a cell inside the block as
+/// well, so the plate holds a cell of the block at each end. Measured 0.90–0.92 here and
+/// 0.93–0.94 at half the spacing
+/// (with the remap's catch kept from the particles' velocities, a projection for the strain
+/// only: 0.95–0.97 and 0.94); so for them 0.88–1.05, and the shortfall must shrink with the
+/// spacing.
 #[test]
 fn uniaxial_compression_yields_at_sigma_y_and_stays_there() {
     each_shape!(|S, shape| {
-        let h = 0.5;
-        let mut scene = block([6, 6, 12], h, pvc());
-        let top = 12.0 * h + 0.07;
-        scene.plates = vec![
-            Plate {
-                z: top,
-                side: 1.0,
-                velocity: -0.2,
-                full_velocity: -0.2,
-            },
-            Plate {
-                z: 0.07,
-                side: -1.0,
-                velocity: 0.0,
-                full_velocity: 0.0,
-            },
-        ];
-        let mut sim = Simulation::<S>::new(scene);
-        let yield_strain = 65.5 / 3378.4;
-        let (mut impulse, mut span) = (0.0, 0.0);
-        let mut ratios = vec![];
-        while sim.state.time * 0.2 < 3.0 * yield_strain * top {
-            let info = sim.step(1.0).unwrap();
-            impulse += info.contact.impulse[0];
-            span += info.dt;
-            if sim.state.steps.is_multiple_of(500) {
-                let p = &sim.state.scene.particles;
-                assert!(p.stress.iter().all(|s| von_mises(s) <= 65.5 * (1.0 + 1e-9)));
-                let height = sim.state.scene.plates[0].z - sim.state.scene.plates[1].z;
-                let area = p.vol.iter().sum::<f64>() / height;
-                if sim.state.time * 0.2 > 2.0 * yield_strain * top {
-                    ratios.push(impulse / span / area / 65.5);
-                }
-                impulse = 0.0;
-                span = 0.0;
-            }
-        }
-        assert!(ratios.len() >= 3);
-        for r in ratios {
-            assert!((0.95..1.05).contains(&r), "{shape:?}: load / (σy A) = {r}");
+        let low = if shape == "linear" { 0.88 } else { 0.95 };
+        for r in squeeze::<S>(0.5) {
+            assert!((low..1.05).contains(&r), "{shape:?}: load / (σy A) = {r}");
         }
     });
+    let mean = |r: Vec<f64>| r.iter().sum::<f64>() / r.len() as f64;
+    let (coarse, fine) = (mean(squeeze::<Linear>(0.5)), mean(squeeze::<Linear>(0.25)));
+    assert!(
+        coarse < fine && fine < 1.05,
+        "linear: load / (σy A) {coarse} at h 0.5 mm, {fine} at 0.25 mm"
+    );
 }
 
 /// A block resting on the bottom plate with the top plate two cells above it, coming down:
@@ -318,26 +341,36 @@ fn mass(scene: &Scene) -> f64 {
     scene.particles.mass.iter().sum()
 }
 
-/// A plate meets a block at rest: in the first step it catches the nodes its touching
-/// particles reach, a perfectly inelastic collision of that mass m_c at the plate speed V.
-/// Closed form: normal impulse J = m_c·V, plate work J·V = m_c·V², kinetic energy of the caught
-/// nodes ½·m_c·V², so the catch dissipates ½·m_c·V² = ½·J·V, half the work. (No internal force
-/// acts in the first step: the block is unstressed.) Round-off only: 1e-12.
+/// A plate meets a block at rest: in the first step's grid update it catches the nodes its
+/// touching particles reach, a perfectly inelastic collision of that mass m_c at the plate
+/// speed V. Closed form: normal impulse J = m_c·V, plate work J·V = m_c·V², kinetic energy of
+/// the caught nodes ½·m_c·V², so the catch dissipates ½·m_c·V² = ½·J·V, half the work. (No
+/// internal force acts in the first step: the block is unstressed.) Round-off only: 1e-12.
+/// The remap then finds the caught nodes short of the plate (FLIP gave their particles
+/// between 0 and V: they weigh uncaught nodes too) and catches them again from their remapped
+/// velocity b: a loss of ½·m·(V − b)² for work m·(V − b)·V, more than nothing and at most half
+/// of it. The step's books are the two catches'.
 #[test]
 fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
     each_shape!(|S, shape| {
-        let h = 0.5;
-        let mut scene = block([6, 6, 4], h, pvc());
-        let top = 4.0 * h + 0.07;
-        let speed = 2.0;
-        scene.plates = vec![Plate {
-            z: top,
-            side: 1.0,
-            velocity: -speed,
-            full_velocity: -speed,
-        }];
-        let mut sim = Simulation::<S>::new(scene);
-        let c = sim.step(1.0).unwrap().contact;
+        let (h, speed) = (0.5, 2.0);
+        let scene = || {
+            let mut scene = block([6, 6, 4], h, pvc());
+            scene.plates = vec![Plate {
+                z: 4.0 * h + 0.07,
+                side: 1.0,
+                velocity: -speed,
+                full_velocity: -speed,
+            }];
+            scene
+        };
+        let mut sim = Simulation::<S>::new(scene());
+        let lp = sim.state.scene.half_size / sim.state.scene.cell;
+        let dt = sim.state.stable_dt();
+        let mut clock = Clock::start();
+        sim.bin(lp);
+        sim.scatter::<Full>(lp, &mut clock);
+        let c = sim.grid_update(dt);
         let j = c.impulse[0];
         assert!(j > 0.0);
         assert!(
@@ -350,9 +383,27 @@ fn a_plate_catching_a_block_books_half_its_work_as_the_inelastic_loss() {
         );
         // The caught mass J/V is the top layer's share of the nodal mass: less than the block.
         assert!(j / speed < mass(&sim.state.scene), "{shape:?}");
+        sim.g2p_velocity(lp);
+        sim.scatter::<Remap>(lp, &mut clock);
+        let r = sim.remap(lp);
+        assert!(r.impulse[0] > 0.0 && r.impulse[0] < j, "{shape:?}: {r:?}");
+        assert!(
+            (r.work[0] - r.impulse[0] * speed).abs() < 1e-12 * r.work[0],
+            "{shape:?}: {r:?}"
+        );
+        assert!(
+            r.catch > 0.0 && r.catch <= 0.5 * r.work[0] * (1.0 + 1e-12),
+            "{shape:?}: {r:?}"
+        );
+        // The same first step through `step`: its books are the two catches'.
+        let mut stepped = Simulation::<S>::new(scene());
+        let both = stepped.step(1.0).unwrap().contact;
+        let mut sum = c;
+        sum.add(&r);
+        assert_eq!(both, sum, "{shape:?}");
         assert_eq!(
-            (sim.state.energy.work[0], sim.state.energy.catch),
-            (c.work[0], c.catch)
+            (stepped.state.energy.work[0], stepped.state.energy.catch),
+            (both.work[0], both.catch)
         );
     });
 }
@@ -422,6 +473,60 @@ fn a_block_sliding_under_friction_does_mu_n_s_of_friction_work() {
         e.catch,
         e.friction
     );
+}
+
+/// Between a fixed and a moving plate (μ 0.3) a block whose particles move every which way is
+/// squeezed for 300 steps: the plates' impulses, of both the grid update and the remap (whose
+/// catch goes to the particles near the plates too), are all the momentum the particles gain
+/// along z (Σ_i ∇N_i = 0: the internal forces add no momentum; Σ_p m_p·N_ip = m_i: what a
+/// node's change gives its particles is m_i times it). Round-off only: 1e-10 of the impulse. A
+/// remap that booked a catch and did not give it to every particle its node reaches (or gave
+/// it and did not book it) would miss by the remap's share of the impulse.
+#[test]
+fn the_plates_impulse_is_the_momentum_the_particles_gain() {
+    each_shape!(|S, shape| {
+        let h = 0.5;
+        let mut scene = block([6, 6, 8], h, pvc());
+        let p = &mut scene.particles;
+        for q in 0..p.len() {
+            let s = (q as f64 * 0.7).sin();
+            p.v[q] = Vector3::new(3.0 * s, 2.0 * (q as f64).cos(), -1.0 + s);
+        }
+        scene.friction = 0.3;
+        // The block's particle edges span z from 0.07 to 4.07 mm.
+        scene.plates = vec![
+            Plate {
+                z: 8.0 * h + 0.07 + 0.01,
+                side: 1.0,
+                velocity: -2.0,
+                full_velocity: -2.0,
+            },
+            Plate {
+                z: 0.07 - 0.01,
+                side: -1.0,
+                velocity: 0.0,
+                full_velocity: 0.0,
+            },
+        ];
+        let before = scene.particles.momentum();
+        let mut sim = Simulation::<S>::new(scene);
+        let mut impulse = [0.0; 2];
+        for _ in 0..300 {
+            let c = sim.step(1.0).unwrap().contact;
+            impulse[0] += c.impulse[0];
+            impulse[1] += c.impulse[1];
+        }
+        let gained = sim.state.scene.particles.momentum().z - before.z;
+        let given = impulse[1] - impulse[0];
+        assert!(
+            impulse[0] > 0.0 && impulse[1] > 0.0,
+            "{shape:?}: {impulse:?}"
+        );
+        assert!(
+            (gained - given).abs() < 1e-10 * (impulse[0] + impulse[1]),
+            "{shape:?}: the particles gained {gained}, the plates gave {given} ({impulse:?})"
+        );
+    });
 }
 
 /// A block of `law` strikes a fixed plate at 40 m/s and rings against it for 0.02 ms. Returns

@@ -143,7 +143,8 @@ impl State {
 /// 3. [`Phases::grid_update`] with the plates: velocity and velocity change per node;
 /// 4. [`Phases::g2p_velocity`]: FLIP, each particle adds its stencil's velocity change;
 /// 5. [`Phases::scatter`] [`grid::Remap`]: the new particle momenta onto the same masses;
-/// 6. [`Phases::remap`] with the plates: the velocity the particles move and strain with;
+/// 6. [`Phases::remap`] with the plates: the velocity the particles move and strain with, and
+///    the plates' catch of it added to the particles' velocities (booked);
 /// 7. [`Phases::g2p_kinematics`]: velocity gradient and position;
 /// 8. [`Phases::update_stress`]: the engine's shared stress loop with the model's geometry.
 ///
@@ -154,7 +155,7 @@ pub trait Phases {
     fn scatter<T: grid::Transfer>(&mut self, lp: Real, clock: &mut Clock);
     fn grid_update(&mut self, dt: Real) -> ContactSums;
     fn g2p_velocity(&mut self, lp: Real);
-    fn remap(&mut self);
+    fn remap(&mut self, lp: Real) -> ContactSums;
     fn g2p_kinematics(&mut self, lp: Real, dt: Real);
     /// Returns the kinetic energy after the step, mJ.
     fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError>;
@@ -186,13 +187,13 @@ pub trait Engine: Phases {
         lap(self, &mut clock, |p| &mut p.bin);
         self.scatter::<grid::Full>(lp, &mut clock);
         lap(self, &mut clock, |p| &mut p.p2g);
-        let contact = self.grid_update(dt);
+        let mut contact = self.grid_update(dt);
         lap(self, &mut clock, |p| &mut p.grid);
         self.g2p_velocity(lp);
         lap(self, &mut clock, |p| &mut p.g2p);
         self.scatter::<grid::Remap>(lp, &mut clock);
         lap(self, &mut clock, |p| &mut p.p2g);
-        self.remap();
+        contact.add(&self.remap(lp));
         lap(self, &mut clock, |p| &mut p.grid);
         self.g2p_kinematics(lp, dt);
         lap(self, &mut clock, |p| &mut p.g2p);

@@ -21,6 +21,13 @@
 //! (v̄ = V) loses nothing, though its velocity after the force update is projected every step.
 //! (Taking the velocity after the force update instead of v̄, ½·m·|v* − V|², books f²·dt²/2m
 //! every step against a held node: a loss that the internal energy has already counted.)
+//!
+//! A step applies the law twice: in the grid update, to the velocity after the force, and in
+//! the remap, to the velocity remapped from the particles' new momenta (no force between: v̄
+//! is the mean of the velocities before and after the projection, so a node caught from b
+//! loses ½·m·|b − V|² of normal approach exactly). Both projections are booked and both reach
+//! the particles, FLIP's through the velocity change and the remap's through its own gather
+//! (the engine's `remap` phase).
 //! Units: g, mm/ms, g·mm/ms (impulse: N·ms), mJ.
 
 use crate::solver::Real;
@@ -101,6 +108,11 @@ pub struct ContactSums {
 }
 
 impl ContactSums {
+    /// Whether any node was projected (a catch has an impulse, a slide a friction loss).
+    pub fn caught_any(&self) -> bool {
+        self.impulse != [0.0; 2] || self.friction != 0.0
+    }
+
     pub fn add(&mut self, o: &ContactSums) {
         for k in 0..2 {
             self.impulse[k] += o.impulse[k];
@@ -167,6 +179,13 @@ pub fn plate_of(plates: &[Plate], touch: Real) -> Option<usize> {
         return None;
     }
     plates.iter().position(|p| p.side * touch > 0.0)
+}
+
+/// Whether a particle at height `z` lies within `reach` mm of a plate's surface: a filter for
+/// the particles a contact node's change can reach.
+#[inline]
+pub fn near_a_plate(plates: &[Plate], reach: Real) -> impl Fn(Real) -> bool + Sync + '_ {
+    move |z| plates.iter().any(|p| (p.z - z) * p.side <= reach)
 }
 
 /// The side of the plate a particle of half-size `half` (mm) centred at height `z` touches (its

@@ -62,7 +62,7 @@ impl Transfer for Remap {
 /// | [`Full`] scatter + reduce | momentum | internal force |
 /// | the grid update | velocity | velocity change |
 /// | [`Remap`] scatter + reduce | momentum | (velocity change, unread) |
-/// | the remap | velocity | (unread) |
+/// | the remap | velocity | the plates' change of it |
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(64))]
 pub struct Node {

@@ -9,7 +9,7 @@
 //! | [`Full`](crate::solver::engine::grid::Full) scatter | `mass`, `momentum`, `force`, `touch` |
 //! | grid update | `velocity`, `change` (velocity change of the step) |
 //! | [`Remap`](crate::solver::engine::grid::Remap) scatter | `momentum` (the particles' new momenta) |
-//! | remap | `velocity` (what the particles move and strain with) |
+//! | remap | `velocity` (what the particles move and strain with), `change` (the plates' change of it) |
 
 use crate::solver::engine::shape::Stencil;
 use crate::solver::Real;

@@ -13,7 +13,7 @@
 //! Stress stays in the 3D layout (`Sym`: xx, yy, zz, yz, xz, xy), with y the removed direction:
 //! σ_yy is the hoop (or axial) stress. The step is the 3D one phase for phase (see
 //! `step/mod.rs`): full scatter, grid update with the plates, FLIP velocity, remap scatter, remap
-//! with the plates, kinematics, stress.
+//! with the plates (its catch added to the particles near them), kinematics, stress.
 
 mod grid;
 mod passes;
@@ -24,7 +24,7 @@ use super::scene::Scene;
 use super::shape::Stencil;
 use super::stress::ChunkSums;
 use crate::solver::model::case::Model;
-use crate::solver::model::contact::ContactSums;
+use crate::solver::model::contact::{self, ContactSums};
 use crate::solver::Real;
 use grid::PlaneGrid;
 use nalgebra::Matrix3;
@@ -115,10 +115,19 @@ impl<S: Stencil> Phases for Section<S> {
         self.update_nodes(dt)
     }
     fn g2p_velocity(&mut self, lp: Real) {
-        self.gather_velocity(lp);
+        self.gather_change(lp, |_| true);
     }
-    fn remap(&mut self) {
-        self.remap_nodes();
+    fn remap(&mut self, lp: Real) -> ContactSums {
+        let caught = self.remap_nodes();
+        if caught.caught_any() {
+            // A node's change reaches particles whose stencils share it with a particle
+            // touching the plate: within a half-size and two stencil supports (at most 1.5
+            // cells each) of the surface, 3.5 cells; N + 1 cells hold that for every stencil.
+            let reach = self.state.scene.cell * (S::N as Real + 1.0);
+            let plates = self.state.scene.plates.clone();
+            self.gather_change(lp, contact::near_a_plate(&plates, reach));
+        }
+        caught
     }
     fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
         self.gather_kinematics(lp, dt);

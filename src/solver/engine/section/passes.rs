@@ -176,34 +176,47 @@ impl<S: Stencil> Section<S> {
         sums
     }
 
-    /// Nodes after the remap scatter: velocity with the plates applied again (not booked: see
-    /// the 3D `Simulation::remap`).
-    pub(super) fn remap_nodes(&mut self) {
+    /// Nodes after the remap scatter: velocity with the plates applied again, the plates'
+    /// change of it left in `change` for the particles, and booked (see the 3D
+    /// `Simulation::remap_nodes`). Returns the contact sums of the catch.
+    pub(super) fn remap_nodes(&mut self) -> ContactSums {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let g = &mut self.grid;
+        let mut sums = ContactSums::default();
         for n in 0..g.len() {
             let m = g.mass[n];
+            g.change[n] = [0.0; 2];
             if m <= self.state.mass_floor {
                 g.velocity[n] = [0.0; 2];
                 continue;
             }
             let p = g.momentum[n];
-            let mut v = Vector3::new(p[0] / m, 0.0, p[1] / m);
+            let before = Vector3::new(p[0] / m, 0.0, p[1] / m);
+            let mut v = before;
             if let Some(k) = contact::plate_of(plates, g.touch[n]) {
-                contact::project(&plates[k], mu, &mut v);
+                contact::apply(k, &plates[k], mu, m, &before, &mut v, &mut sums);
             }
             g.velocity[n] = [v.x, v.z];
+            g.change[n] = [v.x - before.x, v.z - before.z];
         }
+        sums
     }
 
-    /// Grid → particle velocity, FLIP: add the interpolated velocity change.
-    pub(super) fn gather_velocity(&mut self, lp: Real) {
+    /// Grid → particle velocity: add the interpolated velocity change of the nodes to the
+    /// particles for which `near(z)` holds, z their height (mm): FLIP after the grid update
+    /// (every particle), the plates' catch after the remap (those that can reach a contact
+    /// node).
+    pub(super) fn gather_change(&mut self, lp: Real, near: impl Fn(Real) -> bool + Sync) {
         let g = &self.grid;
         let p = &mut self.state.scene.particles;
         let x = &p.x;
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
             for (j, v) in vs.iter_mut().enumerate() {
-                let PlaneStencil { start: o, w, .. } = g.stencil(&x[c * CHUNK + j], lp);
+                let x = &x[c * CHUNK + j];
+                if !near(x.z) {
+                    continue;
+                }
+                let PlaneStencil { start: o, w, .. } = g.stencil(x, lp);
                 for i in 0..S::N {
                     for k in 0..S::N {
                         let dv = g.change[g.index(o[0] + i, o[1] + k)];

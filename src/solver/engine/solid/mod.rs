@@ -9,6 +9,7 @@
 //! 4. g2p velocity: FLIP, each particle adds its stencil's velocity change;
 //! 5. scatter [`Remap`]: the new particle momenta onto the same masses;
 //! 6. the remap with the plates (`nodes.rs`): the velocity the particles move and strain with;
+//!    what the plates caught of it goes to the particles near them too (booked, like step 3);
 //! 7. g2p kinematics: velocity gradient and position;
 //! 8. the stress update (`stress.rs`, the engine's shared loop), with cell-averaged dilation
 //!    and pressure if asked (`averages.rs`).
@@ -35,7 +36,7 @@ use super::kernel::{Clock, Engine, Phases, State, StepInfo};
 use super::scene::Scene;
 use super::shape::Stencil;
 use crate::solver::engine::kernel::SolveError;
-use crate::solver::model::contact::ContactSums;
+use crate::solver::model::contact::{self, ContactSums};
 use crate::solver::Real;
 pub use workspace::Workspace;
 
@@ -95,10 +96,19 @@ impl<S: Stencil> Phases for Simulation<S> {
         self.update_nodes(dt)
     }
     fn g2p_velocity(&mut self, lp: Real) {
-        self.gather_velocity(lp);
+        self.gather_change(lp, |_| true);
     }
-    fn remap(&mut self) {
-        self.remap_nodes();
+    fn remap(&mut self, lp: Real) -> ContactSums {
+        let caught = self.remap_nodes();
+        if caught.caught_any() {
+            // A node's change reaches particles whose stencils share it with a particle
+            // touching the plate: within a half-size and two stencil supports (at most 1.5
+            // cells each) of the surface, 3.5 cells; N + 1 cells hold that for every stencil.
+            let reach = self.state.scene.cell * (S::N as Real + 1.0);
+            let plates = self.state.scene.plates.clone();
+            self.gather_change(lp, contact::near_a_plate(&plates, reach));
+        }
+        caught
     }
     fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
         self.gather_kinematics(lp, dt);

@@ -122,8 +122,11 @@ impl<S: Stencil> Simulation<S> {
         self.grid.padded = padded;
     }
 
-    /// Grid → particle velocity, FLIP: add the interpolated velocity change.
-    pub(super) fn gather_velocity(&mut self, lp: Real) {
+    /// Grid → particle velocity: add the interpolated velocity change of the nodes (`hi`) to
+    /// the particles for which `near(z)` holds, z their height (mm). After the grid update
+    /// this is FLIP (every particle); after the remap, the plates' catch of the remapped
+    /// velocities (only particles whose stencils can reach a contact node).
+    pub(super) fn gather_change(&mut self, lp: Real, near: impl Fn(Real) -> bool + Sync) {
         let g = &self.grid;
         let inv = g.inv_cell;
         let p = &mut self.state.scene.particles;
@@ -132,6 +135,9 @@ impl<S: Stencil> Simulation<S> {
             let mut halo = Halo::<VelocityChange>::new();
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
+                if !near(x[q].z) {
+                    continue;
+                }
                 let Held {
                     nodes,
                     start,
