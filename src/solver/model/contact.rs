@@ -181,10 +181,18 @@ pub fn plate_of(plates: &[Plate], touch: Real) -> Option<usize> {
     plates.iter().position(|p| p.side * touch > 0.0)
 }
 
-/// Whether a particle at height `z` lies within `reach` mm of a plate's surface: a filter for
-/// the particles a contact node's change can reach.
+/// Whether a particle at height `z` can reach a contact node, for a stencil of `nodes` nodes
+/// per axis on cells of `cell` mm: a node's change reaches the particles whose stencils share
+/// it with a particle touching the plate, within a half-size and two stencil supports (at most
+/// 1.5 cells each) of the surface, 3.5 cells; `nodes` + 1 cells hold that for every stencil.
+/// A filter for the particles the remap's catch can change (the rest would add zeros).
 #[inline]
-pub fn near_a_plate(plates: &[Plate], reach: Real) -> impl Fn(Real) -> bool + Sync + '_ {
+pub fn near_a_plate(
+    plates: &[Plate],
+    cell: Real,
+    nodes: usize,
+) -> impl Fn(Real) -> bool + Sync + '_ {
+    let reach = cell * (nodes as Real + 1.0);
     move |z| plates.iter().any(|p| (p.z - z) * p.side <= reach)
 }
 

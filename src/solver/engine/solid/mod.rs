@@ -101,12 +101,8 @@ impl<S: Stencil> Phases for Simulation<S> {
     fn remap(&mut self, lp: Real) -> ContactSums {
         let caught = self.remap_nodes();
         if caught.caught_any() {
-            // A node's change reaches particles whose stencils share it with a particle
-            // touching the plate: within a half-size and two stencil supports (at most 1.5
-            // cells each) of the surface, 3.5 cells; N + 1 cells hold that for every stencil.
-            let reach = self.state.scene.cell * (S::N as Real + 1.0);
-            let plates = self.state.scene.plates.clone();
-            self.gather_change(lp, contact::near_a_plate(&plates, reach));
+            let (plates, cell) = (self.state.scene.plates.clone(), self.state.scene.cell);
+            self.gather_change(lp, contact::near_a_plate(&plates, cell, S::N));
         }
         caught
     }
