@@ -143,8 +143,9 @@ impl State {
 /// 3. [`Phases::grid_update`] with the plates: velocity and velocity change per node;
 /// 4. [`Phases::g2p_velocity`]: FLIP, each particle adds its stencil's velocity change;
 /// 5. [`Phases::scatter`] [`grid::Remap`]: the new particle momenta onto the same masses;
-/// 6. [`Phases::remap`] with the plates: the velocity the particles move and strain with, and
-///    the plates' catch of it added to the particles' velocities (booked);
+/// 6. [`Phases::remap`] with the plates: the velocity the particles move and strain with
+///    (booked), and [`Phases::g2p_catch`]: what the plates caught of it added to the
+///    particles' own velocities;
 /// 7. [`Phases::g2p_kinematics`]: velocity gradient and position;
 /// 8. [`Phases::update_stress`]: the engine's shared stress loop with the model's geometry.
 ///
@@ -155,7 +156,10 @@ pub trait Phases {
     fn scatter<T: grid::Transfer>(&mut self, lp: Real, clock: &mut Clock);
     fn grid_update(&mut self, dt: Real) -> ContactSums;
     fn g2p_velocity(&mut self, lp: Real);
-    fn remap(&mut self, lp: Real) -> ContactSums;
+    fn remap(&mut self) -> ContactSums;
+    /// After a remap that caught nodes: their change added to the velocities of the particles
+    /// that reach them.
+    fn g2p_catch(&mut self, lp: Real);
     fn g2p_kinematics(&mut self, lp: Real, dt: Real);
     /// Returns the kinetic energy after the step, mJ.
     fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError>;
@@ -193,8 +197,13 @@ pub trait Engine: Phases {
         lap(self, &mut clock, |p| &mut p.g2p);
         self.scatter::<grid::Remap>(lp, &mut clock);
         lap(self, &mut clock, |p| &mut p.p2g);
-        contact.add(&self.remap(lp));
+        let caught = self.remap();
         lap(self, &mut clock, |p| &mut p.grid);
+        if caught.caught_any() {
+            self.g2p_catch(lp);
+            lap(self, &mut clock, |p| &mut p.g2p);
+        }
+        contact.add(&caught);
         self.g2p_kinematics(lp, dt);
         lap(self, &mut clock, |p| &mut p.g2p);
         let kinetic = self.update_stress(dt)?;

@@ -117,13 +117,12 @@ impl<S: Stencil> Phases for Section<S> {
     fn g2p_velocity(&mut self, lp: Real) {
         self.gather_change(lp, |_| true);
     }
-    fn remap(&mut self, lp: Real) -> ContactSums {
-        let caught = self.remap_nodes();
-        if caught.caught_any() {
-            let (plates, cell) = (self.state.scene.plates.clone(), self.state.scene.cell);
-            self.gather_change(lp, contact::near_a_plate(&plates, cell, S::N));
-        }
-        caught
+    fn remap(&mut self) -> ContactSums {
+        self.remap_nodes()
+    }
+    fn g2p_catch(&mut self, lp: Real) {
+        let (plates, cell) = (self.state.scene.plates.clone(), self.state.scene.cell);
+        self.gather_change(lp, contact::near_a_plate(&plates, cell, S::N));
     }
     fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
         self.gather_kinematics(lp, dt);
