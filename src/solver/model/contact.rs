@@ -27,7 +27,7 @@
 //! is the mean of the velocities before and after the projection, so a node caught from b
 //! loses ½·m·|b − V|² of normal approach exactly). Both projections are booked and both reach
 //! the particles, FLIP's through the velocity change and the remap's through its own gather
-//! (the engine's `remap` phase).
+//! (the engine's `g2p_catch` phase).
 //! Units: g, mm/ms, g·mm/ms (impulse: N·ms), mJ.
 
 use crate::solver::Real;

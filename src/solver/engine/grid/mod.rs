@@ -110,17 +110,13 @@ impl Node {
         Vector3::new(h[0], h[1], h[2])
     }
 
-    /// The grid update's result: the new velocity and its change over the step, mm/ms.
+    /// A node pass's result (the grid update's, the remap's): the new velocity and its change
+    /// in the pass, mm/ms.
     #[inline(always)]
     pub fn set_updated(&mut self, velocity: &Vector3<Real>, change: &Vector3<Real>) {
-        self.set_velocity(velocity);
-        self.hi = f64x4::new([change.x, change.y, change.z, self.touch()]);
-    }
-
-    /// The remap's result: the velocity the particles move and strain with, mm/ms.
-    #[inline(always)]
-    pub fn set_velocity(&mut self, v: &Vector3<Real>) {
+        let v = velocity;
         self.lo = f64x4::new([self.mass(), v.x, v.y, v.z]);
+        self.hi = f64x4::new([change.x, change.y, change.z, self.touch()]);
     }
 }
 

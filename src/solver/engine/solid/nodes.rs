@@ -23,10 +23,10 @@ impl<S: Stencil> Simulation<S> {
     /// into a plate. The plates' change of each node's velocity is left in its `hi` lanes for
     /// the particles (`gather_change`), and booked as an impulse of the plate: the particles
     /// then move, strain and carry momentum alike at a plate. (Projected for the strain only,
-    /// the particles' own velocities kept approaching the plate: strained as if stopped, they
-    /// were caught again in the next step's grid update, and the energy books lost that
-    /// difference: −1.6 % of the plates' work on a thin tube on μ 0.3, −2.7 % in 3D.) Returns
-    /// the contact sums of the catch.
+    /// the particles' own velocities would keep approaching the plate: strained as if stopped,
+    /// they would be caught again in the next step's grid update, and the energy books would
+    /// lose that difference, measured at −1.6 % of the plates' work on a thin tube's section
+    /// on μ 0.3 and −2.7 % in 3D: docs/folding.md §5.) Returns the contact sums of the catch.
     pub(super) fn remap_nodes(&mut self) -> ContactSums {
         self.plate_pass(None)
     }
