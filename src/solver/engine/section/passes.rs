@@ -185,9 +185,9 @@ impl<S: Stencil> Section<S> {
         let mut sums = ContactSums::default();
         for n in 0..g.len() {
             let m = g.mass[n];
-            g.change[n] = [0.0; 2];
             if m <= self.state.mass_floor {
                 g.velocity[n] = [0.0; 2];
+                g.change[n] = [0.0; 2];
                 continue;
             }
             let p = g.momentum[n];
