@@ -25,9 +25,10 @@ impl ShapeKind {
     /// The shape functions for a case that names none, and why. In 3D a thin wall
     /// (d/t ≥ [`LINEAR_FROM_D_OVER_T`]) gets linear shapes: with uGIMP some such tubes fold at
     /// both plates and then tip over between the near-frictionless plates of the source, where
-    /// linear shapes fold them progressively, as the source's tubes did; quadratic B-splines
-    /// converge where linear shapes do not, but on those plates squash a thin tube's end into
-    /// a pouch (docs/folding.md §4), so they are not the default either. Every other case gets
+    /// linear shapes fold them progressively from one plate, as the source's tubes did;
+    /// quadratic B-splines converge where linear shapes do not, but fold the thin tubes at both
+    /// plates on a platen's friction and squash an end into a pouch on near-frictionless plates
+    /// (docs/folding.md §4), so they are not the default either. Every other case gets
     /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7). A
     /// rectangular section's slenderness is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model) -> ShapeChoice {
@@ -38,9 +39,9 @@ impl ShapeKind {
                 ShapeKind::Linear,
                 format!(
                     "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
-                     {LINEAR_FROM_D_OVER_T}), which uGIMP can let tip over; B-splines converge \
-                     but squash its end into a pouch on near-frictionless plates \
-                     (docs/folding.md §4)"
+                     {LINEAR_FROM_D_OVER_T}); uGIMP and B-splines converge but yield both ends \
+                     of such a tube at once: they fold it from both plates, or let it tip over \
+                     on near-frictionless ones (docs/folding.md §4)"
                 ),
             ),
             Model::ThreeD => (

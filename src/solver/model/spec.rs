@@ -190,10 +190,14 @@ impl Default for Loading {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Contact {
-    /// Coulomb friction coefficient μ between tube and plates.
+    /// Coulomb friction coefficient μ between tube and plates. The default, 0.02, is the
+    /// source's near-frictionless plates, on which the paper's tube and the error tables of
+    /// docs/trust.md were measured; a steel platen on a polymer or metal tube is nearer 0.3,
+    /// which the thin-tube examples use: on near-frictionless plates a slender tube's ends slide
+    /// until it tips over, and a diamond tube's far end splays (docs/folding.md §2–3).
     #[schemars(
         title = "Plate friction μ",
-        description = "Coulomb friction between tube and plates.",
+        description = "Coulomb friction between tube and plates: 0.02 is the source's near-frictionless plates, 0.3 a steel platen's, which holds a thin tube's ends.",
         range(min = 0, max = 2)
     )]
     pub friction: f64,

@@ -40,9 +40,9 @@ fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
     assert_eq!(
         thin.shape_choice().default_reason.as_deref(),
         Some(
-            "linear: the default for a thin wall (d/t = 26.1 >= 8), \
-             which uGIMP can let tip over; B-splines converge but squash its end into a \
-             pouch on near-frictionless plates (docs/folding.md §4)"
+            "linear: the default for a thin wall (d/t = 26.1 >= 8); uGIMP and B-splines \
+             converge but yield both ends of such a tube at once: they fold it from both \
+             plates, or let it tip over on near-frictionless ones (docs/folding.md §4)"
         )
     );
     let at = tube_case(1.0, LINEAR_FROM_D_OVER_T, "{}");
