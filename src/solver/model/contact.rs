@@ -27,7 +27,10 @@
 //! is the mean of the velocities before and after the projection, so a node caught from b
 //! loses ½·m·|b − V|² of normal approach exactly). Both projections are booked and both reach
 //! the particles, FLIP's through the velocity change and the remap's through its own gather
-//! (the engine's `g2p_catch` phase).
+//! (the engine's `g2p_catch` phase). The grid update's friction is booked against the
+//! particles' mean velocity at the node instead of the node's own ([`apply_slip_deferred`],
+//! [`book_slip_end`]): after the force update a node of almost no mass can move at any speed,
+//! and its slip, booked against that, is a friction its particles never had.
 //! Units: g, mm/ms, g·mm/ms (impulse: N·ms), mJ.
 
 use crate::solver::Real;
@@ -108,9 +111,11 @@ pub struct ContactSums {
 }
 
 impl ContactSums {
-    /// Whether any node was projected (a catch has an impulse, a slide a friction loss).
+    /// Whether any node was projected: a projection always changes a node's normal velocity
+    /// (it approached the plate), so it always has an impulse. (Not the friction: the remap's
+    /// sums also hold the grid update's deferred friction, [`book_slip_end`].)
     pub fn caught_any(&self) -> bool {
-        self.impulse != [0.0; 2] || self.friction != 0.0
+        self.impulse != [0.0; 2]
     }
 
     pub fn add(&mut self, o: &ContactSums) {
@@ -168,6 +173,48 @@ pub fn apply(
     sums.work[k] += j.z * plate.velocity;
     sums.catch += j.z * (plate.velocity - mean.z);
     sums.friction -= j.x * mean.x + j.y * mean.y;
+}
+
+/// [`apply`] in the grid update, with the friction booked against the particles' velocities
+/// and not the node's own: returns the tangential impulse (x, y), of which only the start half,
+/// −½·J_t·start, is booked here; [`book_slip_end`] books the other half in the remap, against
+/// the remapped velocity. The remap scatters the particles' new momenta with the weights of the
+/// grid update, so the two halves are J_t against the particles' mass-weighted mean velocity
+/// at the node over the step: the work the tangential impulse does on the particles, which is
+/// what they lose to friction. The node's own mean velocity would do as well where the node
+/// carries its particles' motion, but not at a node of almost no mass (reached only by the tips
+/// of its particles' shape functions): a finite force over almost no mass gives it a velocity
+/// of 10⁷ mm/ms after the force update, and a partial slip booked against that books a friction
+/// the particles never had (189 mJ in one step on a thin tube at its first peak, at the 4e-9 of
+/// a particle's mass of two such nodes; docs/validation.md §4).
+#[inline]
+pub fn apply_slip_deferred(
+    k: usize,
+    plate: &Plate,
+    mu: Real,
+    m: Real,
+    start: &Vector3<Real>,
+    v: &mut Vector3<Real>,
+    sums: &mut ContactSums,
+) -> [Real; 2] {
+    let before = *v;
+    if !project(plate, mu, v) {
+        return [0.0; 2];
+    }
+    let j = (*v - before) * m;
+    let mean_z = 0.5 * (start.z + v.z);
+    sums.impulse[k] += -j.z * plate.side;
+    sums.work[k] += j.z * plate.velocity;
+    sums.catch += j.z * (plate.velocity - mean_z);
+    sums.friction -= 0.5 * (j.x * start.x + j.y * start.y);
+    [j.x, j.y]
+}
+
+/// The end half of a friction booked by [`apply_slip_deferred`]: −½·J_t·`end`, `end` the
+/// node's remapped velocity (its particles' mass-weighted mean velocity after the grid update).
+#[inline]
+pub fn book_slip_end(slip_impulse: [Real; 2], end: &Vector3<Real>, sums: &mut ContactSums) {
+    sums.friction -= 0.5 * (slip_impulse[0] * end.x + slip_impulse[1] * end.y);
 }
 
 /// The plate a contact node obeys, from its touch lane (Σ m·N·side over the particles touching
@@ -297,6 +344,51 @@ mod tests {
         assert_eq!(s.work, [0.0, 0.0]);
         let lost = kinetic(1.0, &start) - kinetic(1.0, &v);
         assert!((lost - s.catch - s.friction).abs() < 1e-12);
+    }
+
+    /// What broke: a node of almost no mass (2e-13 g against a particle's 4e-5 g), reached by
+    /// the tips of its particles' shape functions, had 7e7 mm/ms after the force update and
+    /// slipped on the plate; its friction booked against its own mean velocity came to tens of
+    /// mJ, energy its particles never had. Booked against the particles' velocities (start and
+    /// remapped end, here both about 1 mm/ms) it is the tangential impulse times their slip.
+    #[test]
+    fn a_node_of_almost_no_mass_slipping_on_a_plate_books_only_its_particles_slip() {
+        let m = 2e-13;
+        let start = Vector3::new(0.7, 0.4, -8.2);
+        let mut v = Vector3::new(1.2e7, -3.6e7, 7.2e7);
+        let (mut own, mut deferred) = (ContactSums::default(), ContactSums::default());
+        let mut w = v;
+        apply(0, &top(10.0), 0.3, m, &start, &mut w, &mut own);
+        let jt = apply_slip_deferred(0, &top(10.0), 0.3, m, &start, &mut v, &mut deferred);
+        assert_eq!(v, w, "the same projection");
+        assert_eq!(
+            (own.impulse, own.work, own.catch),
+            (deferred.impulse, deferred.work, deferred.catch)
+        );
+        assert!(own.friction > 10.0, "the node's own books: {own:?}");
+        let end = Vector3::new(0.9, 0.5, -10.0);
+        book_slip_end(jt, &end, &mut deferred);
+        let slip = 0.5 * (start.xy() + end.xy());
+        let expect = -(jt[0] * slip.x + jt[1] * slip.y);
+        assert!((deferred.friction - expect).abs() < 1e-15, "{deferred:?}");
+        assert!(deferred.friction.abs() < 1e-4, "{deferred:?}");
+    }
+
+    /// Where the node carries its particles' motion (its remapped velocity is its own), the
+    /// deferred friction is the node's: the same books as [`apply`].
+    #[test]
+    fn the_deferred_friction_of_a_node_that_carries_its_particles_is_its_own() {
+        let start = Vector3::new(10.0, 0.0, -1.0);
+        let (mut v, mut w) = (start, start);
+        let (mut own, mut deferred) = (ContactSums::default(), ContactSums::default());
+        apply(0, &bottom(), 0.2, 1.0, &start, &mut w, &mut own);
+        let jt = apply_slip_deferred(0, &bottom(), 0.2, 1.0, &start, &mut v, &mut deferred);
+        book_slip_end(jt, &v, &mut deferred);
+        assert!(
+            (deferred.friction - own.friction).abs() < 1e-12,
+            "{deferred:?} {own:?}"
+        );
+        assert_eq!(deferred.catch, own.catch);
     }
 
     /// What broke: friction was booked as m·(t0 − t1)·t1, so a node that sticks (t1 = 0) booked

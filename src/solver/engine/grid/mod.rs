@@ -60,8 +60,8 @@ impl Transfer for Remap {
 /// | after | `a` | `b` |
 /// |---|---|---|
 /// | [`Full`] scatter + reduce | momentum | internal force |
-/// | the grid update | velocity | velocity change |
-/// | [`Remap`] scatter + reduce | momentum | (velocity change, unread) |
+/// | the grid update | velocity change | the plate's tangential impulse (b₀, b₁) |
+/// | [`Remap`] scatter + reduce | momentum | the grid update's tangential impulse, for its books |
 /// | the remap | velocity | the plates' change of it |
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(64))]
@@ -110,8 +110,25 @@ impl Node {
         Vector3::new(h[0], h[1], h[2])
     }
 
-    /// A node pass's result (the grid update's, the remap's): the new velocity and its change
-    /// in the pass, mm/ms.
+    /// The grid update's result: the velocity change, mm/ms (in `a`, for the FLIP gather, so
+    /// that the [`Remap`] scatter, which sums `a` only, keeps `b`), and the plate's tangential
+    /// impulse on the node, N·ms (in `b`, for the friction's end half, booked in the remap).
+    #[inline(always)]
+    pub fn set_stepped(&mut self, change: &Vector3<Real>, slip_impulse: [Real; 2]) {
+        self.lo = f64x4::new([self.mass(), change.x, change.y, change.z]);
+        let [jx, jy] = slip_impulse;
+        self.hi = f64x4::new([jx, jy, 0.0, self.touch()]);
+    }
+
+    /// After the [`Remap`] scatter and reduce: the grid update's tangential impulse on the
+    /// node, N·ms ([`Node::set_stepped`]).
+    #[inline(always)]
+    pub fn slip_impulse(&self) -> [Real; 2] {
+        let h = self.hi.as_array();
+        [h[0], h[1]]
+    }
+
+    /// The remap's result: the new velocity and the plates' change of it, mm/ms.
     #[inline(always)]
     pub fn set_updated(&mut self, velocity: &Vector3<Real>, change: &Vector3<Real>) {
         let v = velocity;
@@ -127,9 +144,10 @@ pub trait Gathered: Send + Sync + 'static {
     const LO: bool;
 }
 
-/// After the grid update: the velocity change, for the FLIP gather (`hi`).
+/// After the remap: the plates' change of the velocity, for the catch's gather (`hi`).
 pub enum VelocityChange {}
-/// After the remap: the velocity, for the kinematics gather (`lo`).
+/// After the grid update, the velocity change, for the FLIP gather; after the remap, the
+/// velocity, for the kinematics gather (`lo`).
 pub enum Velocity {}
 
 impl Gathered for VelocityChange {

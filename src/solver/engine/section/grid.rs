@@ -7,7 +7,7 @@
 //! | phase | arrays written |
 //! |---|---|
 //! | [`Full`](crate::solver::engine::grid::Full) scatter | `mass`, `momentum`, `force`, `touch` |
-//! | grid update | `velocity`, `change` (velocity change of the step) |
+//! | grid update | `velocity`, `change` (velocity change of the step), `slip` (the plate's tangential impulse, whose friction the remap finishes booking) |
 //! | [`Remap`](crate::solver::engine::grid::Remap) scatter | `momentum` (the particles' new momenta) |
 //! | remap | `velocity` (what the particles move and strain with), `change` (the plates' change of it) |
 
@@ -44,6 +44,8 @@ pub struct PlaneGrid<S: Stencil> {
     pub force: Vec<Pair>,
     pub velocity: Vec<Pair>,
     pub change: Vec<Pair>,
+    /// The grid update's tangential (x) impulse of the plates on the node, N·ms.
+    pub slip: Vec<Real>,
     shape: PhantomData<S>,
 }
 
@@ -59,6 +61,7 @@ impl<S: Stencil> PlaneGrid<S> {
             force: Vec::new(),
             velocity: Vec::new(),
             change: Vec::new(),
+            slip: Vec::new(),
             shape: PhantomData,
         }
     }
@@ -92,6 +95,7 @@ impl<S: Stencil> PlaneGrid<S> {
         // The node passes write every node's velocity and change: sized, not cleared.
         self.velocity.resize(len, [0.0; 2]);
         self.change.resize(len, [0.0; 2]);
+        self.slip.resize(len, 0.0);
     }
 
     /// Nodes in the rectangle.
@@ -128,7 +132,7 @@ impl<S: Stencil> PlaneGrid<S> {
     /// Bytes held (capacity).
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
-        (self.mass.capacity() + self.touch.capacity()) * size_of::<Real>()
+        (self.mass.capacity() + self.touch.capacity() + self.slip.capacity()) * size_of::<Real>()
             + (self.momentum.capacity()
                 + self.force.capacity()
                 + self.velocity.capacity()

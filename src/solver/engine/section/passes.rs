@@ -162,14 +162,18 @@ impl<S: Stencil> Section<S> {
             if m <= self.state.mass_floor {
                 g.velocity[n] = [0.0; 2];
                 g.change[n] = [0.0; 2];
+                g.slip[n] = 0.0;
                 continue;
             }
             let (p, f) = (g.momentum[n], g.force[n]);
             let old = Vector3::new(p[0] / m, 0.0, p[1] / m);
             let mut v = old + Vector3::new(f[0], 0.0, f[1]) * (dt / m);
-            if let Some(k) = contact::plate_of(plates, g.touch[n]) {
-                contact::apply(k, &plates[k], mu, m, &old, &mut v, &mut sums);
-            }
+            g.slip[n] = match contact::plate_of(plates, g.touch[n]) {
+                Some(k) => {
+                    contact::apply_slip_deferred(k, &plates[k], mu, m, &old, &mut v, &mut sums)[0]
+                }
+                None => 0.0,
+            };
             g.velocity[n] = [v.x, v.z];
             g.change[n] = [v.x - old.x, v.z - old.z];
         }
@@ -192,6 +196,9 @@ impl<S: Stencil> Section<S> {
             }
             let p = g.momentum[n];
             let before = Vector3::new(p[0] / m, 0.0, p[1] / m);
+            if g.slip[n] != 0.0 {
+                contact::book_slip_end([g.slip[n], 0.0], &before, &mut sums);
+            }
             let mut v = before;
             if let Some(k) = contact::plate_of(plates, g.touch[n]) {
                 contact::apply(k, &plates[k], mu, m, &before, &mut v, &mut sums);

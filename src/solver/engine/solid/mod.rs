@@ -31,7 +31,7 @@ mod workspace;
 
 #[cfg(doc)]
 use super::grid::Node;
-use super::grid::{Grid, Transfer};
+use super::grid::{Grid, Transfer, Velocity, VelocityChange};
 use super::kernel::{Clock, Engine, Phases, State, StepInfo};
 use super::scene::Scene;
 use super::shape::Stencil;
@@ -96,14 +96,14 @@ impl<S: Stencil> Phases for Simulation<S> {
         self.update_nodes(dt)
     }
     fn g2p_velocity(&mut self, lp: Real) {
-        self.gather_change(lp, |_| true);
+        self.gather_change::<Velocity>(lp, |_| true);
     }
     fn remap(&mut self) -> ContactSums {
         self.remap_nodes()
     }
     fn g2p_catch(&mut self, lp: Real) {
         let (plates, cell) = (self.state.scene.plates.clone(), self.state.scene.cell);
-        self.gather_change(lp, contact::near_a_plate(&plates, cell, S::N));
+        self.gather_change::<VelocityChange>(lp, contact::near_a_plate(&plates, cell, S::N));
     }
     fn g2p_kinematics(&mut self, lp: Real, dt: Real) {
         self.gather_kinematics(lp, dt);

@@ -32,8 +32,10 @@ impl<S: Stencil> Simulation<S> {
     }
 
     /// Momentum → velocity on every owned node, plus force·`dt` when given (the grid update;
-    /// the remap has no force), with the plates applied and booked; the node keeps the new
-    /// velocity and its change.
+    /// the remap has no force), with the plates applied and booked. The grid update leaves the
+    /// velocity change and the plate's tangential impulse ([`Node::set_stepped`]), whose
+    /// friction the remap finishes booking against the remapped velocity
+    /// ([`contact::apply_slip_deferred`]); the remap leaves the velocity and its change.
     fn plate_pass(&mut self, dt: Option<Real>) -> ContactSums {
         let (plates, mu) = (&self.state.scene.plates, self.state.scene.friction);
         let floor = self.state.mass_floor;
@@ -45,14 +47,30 @@ impl<S: Stencil> Simulation<S> {
                 return;
             }
             let old = n.momentum() / m;
-            let mut v = match dt {
-                Some(dt) => old + n.force() * (dt / m),
-                None => old,
-            };
-            if let Some(k) = contact::plate_of(plates, n.touch()) {
-                contact::apply(k, &plates[k], mu, m, &old, &mut v, sums);
+            let plate = contact::plate_of(plates, n.touch());
+            match dt {
+                Some(dt) => {
+                    let mut v = old + n.force() * (dt / m);
+                    let slip = match plate {
+                        Some(k) => {
+                            contact::apply_slip_deferred(k, &plates[k], mu, m, &old, &mut v, sums)
+                        }
+                        None => [0.0; 2],
+                    };
+                    n.set_stepped(&(v - old), slip);
+                }
+                None => {
+                    let slip = n.slip_impulse();
+                    if slip != [0.0; 2] {
+                        contact::book_slip_end(slip, &old, sums);
+                    }
+                    let mut v = old;
+                    if let Some(k) = plate {
+                        contact::apply(k, &plates[k], mu, m, &old, &mut v, sums);
+                    }
+                    n.set_updated(&v, &(v - old));
+                }
             }
-            n.set_updated(&v, &(v - old));
         })
     }
 }

@@ -3,7 +3,7 @@
 
 use super::Simulation;
 use crate::solver::engine::grid::sweep::{self, Pass};
-use crate::solver::engine::grid::{Gathered, Grid, Transfer, Velocity, VelocityChange, NONE};
+use crate::solver::engine::grid::{Gathered, Grid, Transfer, Velocity, NONE};
 use crate::solver::engine::kernel::Clock;
 use crate::solver::engine::shape::{Axis, Gimp, Linear, Stencil};
 use crate::solver::model::contact::{self, CONTACT_TOLERANCE};
@@ -122,17 +122,25 @@ impl<S: Stencil> Simulation<S> {
         self.grid.padded = padded;
     }
 
-    /// Grid → particle velocity: add the interpolated velocity change of the nodes (`hi`) to
-    /// the particles for which `near(z)` holds, z their height (mm). After the grid update
-    /// this is FLIP (every particle); after the remap, the plates' catch of the remapped
-    /// velocities (only particles whose stencils can reach a contact node).
-    pub(super) fn gather_change(&mut self, lp: Real, near: impl Fn(Real) -> bool + Sync) {
+    /// Grid → particle velocity: add the interpolated velocity change of the nodes to the
+    /// particles for which `near(z)` holds, z their height (mm). After the grid update this is
+    /// FLIP (every particle; the change in `lo`, `G` = [`Velocity`]); after the remap, the
+    /// plates' catch of the remapped velocities (only particles whose stencils can reach a
+    /// contact node; the change in `hi`, `G` =
+    /// [`VelocityChange`](crate::solver::engine::grid::VelocityChange)).
+    pub(super) fn gather_change<G: Gathered>(
+        &mut self,
+        lp: Real,
+        near: impl Fn(Real) -> bool + Sync,
+    ) {
         let g = &self.grid;
         let inv = g.inv_cell;
         let p = &mut self.state.scene.particles;
         let x = &p.x;
+        // The change's first lane: `lo` is [mass, change], `hi` [change, touch or 0].
+        let first = usize::from(G::LO);
         p.v.par_chunks_mut(CHUNK).enumerate().for_each(|(c, vs)| {
-            let mut halo = Halo::<VelocityChange>::new();
+            let mut halo = Halo::<G>::new();
             for (i, v) in vs.iter_mut().enumerate() {
                 let q = c * CHUNK + i;
                 if !near(x[q].z) {
@@ -143,7 +151,6 @@ impl<S: Stencil> Simulation<S> {
                     start,
                     axes: [ax, ay, az],
                 } = halo.stencil(g, q, x[q] * inv, lp);
-                // Lanes 0..3 of `hi` are the velocity change (lane 3, touch, is unused).
                 let (nx, ny) = (S::reach(&ax), S::reach(&ay));
                 let mut acc = f64x4::splat(0.0);
                 for i in 0..nx {
@@ -158,7 +165,7 @@ impl<S: Stencil> Simulation<S> {
                     }
                 }
                 let a = acc.as_array();
-                let dv = Vector3::new(a[0], a[1], a[2]);
+                let dv = Vector3::new(a[first], a[first + 1], a[first + 2]);
                 *v += dv;
             }
         });
