@@ -152,7 +152,8 @@ pub fn project(plate: &Plate, mu: Real, v: &mut Vector3<Real>) -> bool {
 }
 
 /// [`project`] at a node of mass `m` in contact with plate `k`, with the books: `start` is the
-/// node's velocity at the start of the step (before the force update). See the module's note.
+/// node's velocity at the start of the pass, and the node's own mean velocity over it is what
+/// the tangential impulse is booked against. See the module's note.
 #[inline]
 pub fn apply(
     k: usize,
@@ -163,16 +164,10 @@ pub fn apply(
     v: &mut Vector3<Real>,
     sums: &mut ContactSums,
 ) {
-    let before = *v;
-    if !project(plate, mu, v) {
-        return;
+    let slip = apply_slip_deferred(k, plate, mu, m, start, v, sums);
+    if slip != [0.0; 2] {
+        book_slip_end(slip, v, sums);
     }
-    let j = (*v - before) * m;
-    let mean = 0.5 * (start + *v);
-    sums.impulse[k] += -j.z * plate.side;
-    sums.work[k] += j.z * plate.velocity;
-    sums.catch += j.z * (plate.velocity - mean.z);
-    sums.friction -= j.x * mean.x + j.y * mean.y;
 }
 
 /// [`apply`] in the grid update, with the friction booked against the particles' velocities
