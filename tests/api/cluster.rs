@@ -241,9 +241,7 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
     };
     let mut one = Child::start(&db, &flags("one"));
     let client = client();
-    let mut case = medium_case();
-    case["loading"]["plate_speed_m_s"] = 10.into();
-    let id = submit_to(&client, &one.url, &case).await;
+    let id = submit_to(&client, &one.url, &killable_case()).await;
     // Running on `one`, with progress stored.
     let deadline = Instant::now() + Duration::from_secs(30);
     loop {
@@ -258,9 +256,10 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
         assert!(Instant::now() < deadline, "the run did not start: {job}");
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
-    let two = Child::start(&db, &flags("two"));
+    // Killed at once, mid-run; the second node starts after.
     unsafe { libc::kill(one.pid(), libc::SIGKILL) };
     one.exited_within(Duration::from_secs(5)).expect("killed");
+    let two = Child::start(&db, &flags("two"));
     let job = wait_for(
         &client,
         &two.url,

@@ -30,7 +30,7 @@ async fn a_server_killed_mid_run_finishes_the_job_exactly_once_after_restart() {
     let client = client();
     let quick = ["--heartbeat-ms", "200", "--stale-after-s", "1"];
     let mut first = Child::start(&db, &quick);
-    let id = submit_to(&client, &first.url, &medium_case()).await;
+    let id = submit_to(&client, &first.url, &killable_case()).await;
     wait_for_progress(&client, &first.url, &id).await;
     first.process.kill().unwrap(); // SIGKILL
     first.process.wait().unwrap();
@@ -51,7 +51,9 @@ async fn a_server_killed_mid_run_finishes_the_job_exactly_once_after_restart() {
     );
     let history = get_json(&client, &format!("{}/v1/jobs/{id}/history", second.url)).await;
     let rows = history["rows"].as_array().unwrap();
-    let points = medium_case()["output"]["history_points"].as_u64().unwrap() as usize;
+    let points = killable_case()["output"]["history_points"]
+        .as_u64()
+        .unwrap() as usize;
     assert!(
         (points - 1..=points + 1).contains(&rows.len()),
         "{} rows for {points} points",

@@ -35,6 +35,17 @@ pub fn medium_case() -> Value {
     })
 }
 
+/// Runs for several seconds on one thread (the medium case takes well under one): a server
+/// killed at its first progress is killed mid-run.
+pub fn killable_case() -> Value {
+    json!({
+        "tube": {"length_mm": 76.2},
+        "discretization": {"particles_through_thickness": 2},
+        "loading": {"crush_distance_mm": 30, "plate_speed_m_s": 10},
+        "output": {"history_points": 500}
+    })
+}
+
 /// Runs far longer than any test waits: only ever cancelled or interrupted.
 pub fn long_case() -> Value {
     json!({
