@@ -28,7 +28,9 @@ impl ShapeKind {
     /// linear shapes fold them progressively from one plate, as the source's tubes did;
     /// quadratic B-splines converge where linear shapes do not, but fold the thin tubes at both
     /// plates on a platen's friction and squash an end into a pouch on near-frictionless plates
-    /// (docs/folding.md §4), so they are not the default either. Every other case gets
+    /// (docs/folding.md §4), so they are not the default either. Linear shapes' one-ended
+    /// folds are the grid's, not the load's: the same crush seen from a moving frame folds
+    /// from the other end (§4), and the verdict says so (`frame_dependent`). Every other case gets
     /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7). A
     /// rectangular section's slenderness is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model) -> ShapeChoice {
@@ -41,7 +43,8 @@ impl ShapeKind {
                     "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
                      {LINEAR_FROM_D_OVER_T}); uGIMP and B-splines converge but yield both ends \
                      of such a tube at once: they fold it from both plates, or let it tip over \
-                     on near-frictionless ones (docs/folding.md §4)"
+                     on near-frictionless ones; where linear shapes fold it first follows the \
+                     wall's motion through the grid (docs/folding.md §4)"
                 ),
             ),
             Model::ThreeD => (

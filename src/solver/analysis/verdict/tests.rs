@@ -322,3 +322,31 @@ fn an_end_flattened_on_its_plate_is_caution_on_a_folding_tube_only() {
         );
     }
 }
+
+#[test]
+fn a_3d_axial_crush_on_linear_shapes_is_caution_for_its_frame_and_on_gimp_or_a_section_not() {
+    let frame = |json: &str| {
+        rules(&foreseen(&case(json)))
+            .into_iter()
+            .filter(|(r, _)| *r == Rule::FrameDependent)
+            .map(|(_, l)| l)
+            .collect::<Vec<_>>()
+    };
+    // The thin d20 tube: linear by the default rule, or named.
+    let thin = r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32}}"#;
+    assert_eq!(frame(thin), [Level::Caution]);
+    assert_eq!(
+        frame(r#"{"discretization": {"shape": "linear"}}"#),
+        [Level::Caution]
+    );
+    // Measured on axial crushes only: a lateral one is not told.
+    for quiet in [
+        r#"{"discretization": {"shape": "linear"}, "loading": {"mode": "lateral"}}"#,
+        "{}",
+        r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32},
+            "discretization": {"shape": "gimp"}}"#,
+        r#"{"discretization": {"shape": "linear", "model": "axisymmetric"}}"#,
+    ] {
+        assert_eq!(frame(quiet), [], "{quiet}");
+    }
+}

@@ -42,7 +42,8 @@ fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
         Some(
             "linear: the default for a thin wall (d/t = 26.1 >= 8); uGIMP and B-splines \
              converge but yield both ends of such a tube at once: they fold it from both \
-             plates, or let it tip over on near-frictionless ones (docs/folding.md §4)"
+             plates, or let it tip over on near-frictionless ones; where linear shapes fold \
+             it first follows the wall's motion through the grid (docs/folding.md §4)"
         )
     );
     let at = tube_case(1.0, LINEAR_FROM_D_OVER_T, "{}");
