@@ -224,8 +224,10 @@ const FRAME_DEPENDENT: &str = "linear shape functions: where the folds start, th
      mean load follow the wall's motion through the grid, not the load alone: the d/t 14 PVC \
      tube (n 3, platen friction) folds in rings from the moving plate at 17.35 kN, and in a \
      two-lobe diamond from the fixed one at 14.95 kN when the whole scene moves along the \
-     axis at 5 m/s, the same crush; uGIMP folds it alike in both frames (17.10 and 17.20 kN; \
-     docs/folding.md §4): run with discretization.shape \"gimp\" to compare";
+     axis at 5 m/s, the same crush; uGIMP folds it alike in both frames (17.10 and 17.20 kN). \
+     The t 0.76 mm tube folds three lobes from the moving plate at 1.100 kN, and two lobes \
+     from both plates at 0.907 kN in the moving frame (docs/folding.md §4): run with \
+     discretization.shape \"gimp\" to compare";
 
 /// The longest stretch of plate travel with no load on the plate before a crush is marked
 /// not trusted, mm: the plates close steadily, so a tube in contact carries load all the way;
