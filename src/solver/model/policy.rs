@@ -30,7 +30,8 @@ impl ShapeKind {
     /// plates on a platen's friction and squash an end into a pouch on near-frictionless plates
     /// (docs/folding.md §4), so they are not the default either. Linear shapes' one-ended
     /// folds are the grid's, not the load's: the same crush seen from a moving frame folds
-    /// from the other end (§4), and the verdict says so (`frame_dependent`). Every other case gets
+    /// from the other end or from both (§4), and the verdict says so (`frame_dependent`).
+    /// Every other case gets
     /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7). A
     /// rectangular section's slenderness is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model) -> ShapeChoice {
