@@ -370,22 +370,24 @@ mod tests {
     }
 
     #[test]
-    fn the_shape_help_names_the_servers_threshold() {
-        let threshold = format!(
-            "(d/t >= {})",
-            crate::solver::model::case::LINEAR_FROM_D_OVER_T
-        );
+    fn the_shape_help_names_the_servers_thresholds() {
+        use crate::solver::model::case::{HOLDING_FRICTION, THIN_WALL_D_OVER_T};
         let shape = fields()
             .into_iter()
             .find(|f| f.field == "discretization.shape")
             .unwrap();
-        assert!(shape.help.contains(&threshold), "{}", shape.help);
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/api/openapi.yaml");
         let contract = std::fs::read_to_string(path).unwrap();
-        assert!(
-            contract.contains(&threshold),
-            "api/openapi.yaml: {threshold}"
-        );
+        for threshold in [
+            format!("(d/t >= {THIN_WALL_D_OVER_T})"),
+            format!("(μ < {HOLDING_FRICTION})"),
+        ] {
+            assert!(shape.help.contains(&threshold), "{}", shape.help);
+            assert!(
+                contract.contains(&threshold),
+                "api/openapi.yaml: {threshold}"
+            );
+        }
     }
 
     #[test]

@@ -414,7 +414,8 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     let e = app.estimate(&triggered).await;
     assert!(e.get("reduced").is_none(), "{e}");
     // The estimate names the shape functions: the default one with why (uGIMP for the thick
-    // default tube, linear for a thin wall in 3D), a named one bare.
+    // default tube, linear for a thin wall in 3D on the default near-frictionless plates), a
+    // named one bare.
     assert_eq!(estimate["shape"]["kind"], "gimp", "{estimate}");
     assert!(
         estimate["shape"]["default_reason"].is_string(),
@@ -426,6 +427,13 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     assert_eq!(e["shape"]["kind"], "linear", "{e}");
     let why = e["shape"]["default_reason"].as_str().unwrap();
     assert!(why.contains("d/t = 26.1"), "{why}");
+    // The same wall on a platen's friction, which holds its ends: uGIMP, and why.
+    let mut held = thin.clone();
+    held["contact"] = json!({"friction": 0.3});
+    let e = app.estimate(&held).await;
+    assert_eq!(e["shape"]["kind"], "gimp", "{e}");
+    let why = e["shape"]["default_reason"].as_str().unwrap();
+    assert!(why.contains("plates that hold its ends (μ 0.3"), "{why}");
     let mut named = thin.clone();
     named["discretization"] = json!({"shape": "gimp"});
     let e = app.estimate(&named).await;

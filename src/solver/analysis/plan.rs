@@ -13,10 +13,10 @@ pub use errors::{error_table, expected_error_percent, ERROR_BASIS};
 
 use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
-use crate::solver::model::case::LINEAR_FROM_D_OVER_T;
 use crate::solver::model::case::{
     Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, Section, ShapeKind,
 };
+use crate::solver::model::case::{HOLDING_FRICTION, THIN_WALL_D_OVER_T};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -172,10 +172,16 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
     .to_string();
     let section = CrossSection::of(&spec.tube);
     let d_over_t = section.width_mm() / section.thickness_mm();
-    if model == Model::ThreeD && shape == ShapeKind::Gimp && d_over_t >= LINEAR_FROM_D_OVER_T {
+    if model == Model::ThreeD
+        && shape == ShapeKind::Gimp
+        && d_over_t >= THIN_WALL_D_OVER_T
+        && spec.contact.friction < HOLDING_FRICTION
+    {
         s.push_str(&format!(
-            "; uGIMP can let a wall this thin ({}/t = {d_over_t:.1}) tip over",
-            section.width_symbol()
+            "; uGIMP can let a wall this thin ({}/t = {d_over_t:.1}) tip over on plates this \
+             slippery (μ {})",
+            section.width_symbol(),
+            spec.contact.friction
         ));
     }
     if spec.tube.section == Section::Rectangular {

@@ -204,7 +204,7 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
             });
         }
         let thin = geometry.section.width_mm() / geometry.section.thickness_mm()
-            >= crate::solver::model::case::LINEAR_FROM_D_OVER_T;
+            >= crate::solver::model::case::THIN_WALL_D_OVER_T;
         if geometry.model == Model::ThreeD && thin && spec.trigger.weak_fraction > 0.0 {
             reasons.push(Reason {
                 rule: Rule::SeedSensitiveMode,

@@ -5,7 +5,7 @@
 
 pub use super::geometry::{CrossSection, Geometry, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
-pub use super::policy::{ShapeChoice, LINEAR_FROM_D_OVER_T};
+pub use super::policy::{ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T};
 pub use super::spec::*;
 
 use super::checks::{self, Checker};
@@ -60,7 +60,11 @@ impl Case {
                         kind,
                         default_reason: None,
                     },
-                    None => ShapeKind::default_for(&geometry.section, spec.discretization.model),
+                    None => ShapeKind::default_for(
+                        &geometry.section,
+                        spec.discretization.model,
+                        spec.contact.friction,
+                    ),
                 },
                 geometry,
                 spec,

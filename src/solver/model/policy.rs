@@ -6,11 +6,18 @@ use super::spec::{Model, ShapeKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-/// The d/t from which a 3D case that names no shape function runs with linear shapes.
-/// `docs/validation.md` §4, "Which shape function for which wall", holds the runs behind it:
-/// at d/t 6.9 both shapes fold the paper's tube in rings and uGIMP closes its books better; at
-/// d/t 9.4 and 26 uGIMP let tubes tip over that linear shapes fold progressively.
-pub const LINEAR_FROM_D_OVER_T: f64 = 8.0;
+/// The d/t from which a wall is thin: a 3D case of such a wall on near-frictionless plates
+/// runs with linear shapes by default. `docs/validation.md` §4, "Which shape function for
+/// which wall", holds the runs behind it: at d/t 6.9 both shapes fold the paper's tube in
+/// rings and uGIMP closes its books better; at d/t 9.4 and 26 uGIMP let tubes tip over
+/// between the source's plates (μ 0.02) that linear shapes fold progressively.
+pub const THIN_WALL_D_OVER_T: f64 = 8.0;
+
+/// The plate friction from which the plates hold a thin wall's ends, so that a 3D case of a
+/// thin wall runs with uGIMP by default. On a platen's μ 0.3 uGIMP keeps every thin tube
+/// measured on its plates (the d = 10 mm tube bends as a column), and at μ 0.1 the d = 10 mm
+/// tube too, which tipped over on μ 0.02 (docs/folding.md §4).
+pub const HOLDING_FRICTION: f64 = 0.1;
 
 /// The shape functions a case runs with, and whether the case named them.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
@@ -22,36 +29,42 @@ pub struct ShapeChoice {
 }
 
 impl ShapeKind {
-    /// The shape functions for a case that names none, and why. In 3D a thin wall
-    /// (d/t ≥ [`LINEAR_FROM_D_OVER_T`]) gets linear shapes: with uGIMP some such tubes fold at
-    /// both plates and then tip over between the near-frictionless plates of the source, where
-    /// linear shapes fold them progressively from one plate, as the source's tubes did;
-    /// quadratic B-splines converge where linear shapes do not, but fold the thin tubes at both
-    /// plates on a platen's friction and squash an end into a pouch on near-frictionless plates
-    /// (docs/folding.md §4), so they are not the default either. Linear shapes' one-ended
-    /// folds are the grid's, not the load's: the same crush seen from a moving frame folds
-    /// from the other end or from both (§4), and the verdict says so (`frame_dependent`).
-    /// Every other case gets
-    /// uGIMP, which converges with n where linear shapes do not (the reduced models, §7). A
-    /// rectangular section's slenderness is its larger side over t (b/t).
-    pub fn default_for(section: &CrossSection, model: Model) -> ShapeChoice {
+    /// The shape functions for a case that names none, and why: uGIMP, which converges with n
+    /// where linear shapes do not (docs/validation.md §1, docs/folding.md §7) and folds a tube
+    /// nearly alike when the whole crush moves through the grid (docs/folding.md §4, "Which
+    /// end folds first"), but for a thin wall (d/t ≥ [`THIN_WALL_D_OVER_T`]) in 3D on
+    /// near-frictionless plates (μ < [`HOLDING_FRICTION`]): uGIMP yields both ends of such a
+    /// tube at once and lets it tip over between such plates, which linear shapes do not
+    /// (their folds follow the wall's motion through the grid, and the verdict says so:
+    /// `frame_dependent`). A rectangular section's slenderness is its larger side over t (b/t).
+    pub fn default_for(section: &CrossSection, model: Model, friction: f64) -> ShapeChoice {
         let slenderness = section.width_mm() / section.thickness_mm();
         let w = section.width_symbol();
+        let thin = slenderness >= THIN_WALL_D_OVER_T;
         let (kind, why) = match model {
-            Model::ThreeD if slenderness >= LINEAR_FROM_D_OVER_T => (
+            Model::ThreeD if thin && friction < HOLDING_FRICTION => (
                 ShapeKind::Linear,
                 format!(
                     "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
-                     {LINEAR_FROM_D_OVER_T}); uGIMP and B-splines converge but yield both ends \
-                     of such a tube at once: they fold it from both plates, or let it tip over \
-                     on near-frictionless ones; where linear shapes fold it first follows the \
-                     wall's motion through the grid (docs/folding.md §4)"
+                     {THIN_WALL_D_OVER_T}) on near-frictionless plates (μ {friction} < \
+                     {HOLDING_FRICTION}), between which uGIMP lets such a tube tip over; \
+                     where linear shapes fold it first follows the wall's motion through the \
+                     grid (docs/folding.md §4)"
+                ),
+            ),
+            Model::ThreeD if thin => (
+                ShapeKind::Gimp,
+                format!(
+                    "gimp: the default for a thin wall ({w}/t = {slenderness:.1} >= \
+                     {THIN_WALL_D_OVER_T}) on plates that hold its ends (μ {friction} >= \
+                     {HOLDING_FRICTION}); it folds where the start's wave loads the wall most, \
+                     often at both ends (docs/folding.md §4)"
                 ),
             ),
             Model::ThreeD => (
                 ShapeKind::Gimp,
                 format!(
-                    "gimp: the default for a wall of {w}/t = {slenderness:.1} < {LINEAR_FROM_D_OVER_T}"
+                    "gimp: the default for a wall of {w}/t = {slenderness:.1} < {THIN_WALL_D_OVER_T}"
                 ),
             ),
             _ => (

@@ -143,3 +143,25 @@ fn a_case_with_a_trigger_has_no_section_options() {
     );
     assert!(p.options.iter().all(|o| o.model == Model::ThreeD));
 }
+
+#[test]
+fn a_thin_walls_3d_ugimp_options_warn_of_tipping_over_on_slippery_plates_only() {
+    let tip = |friction: f64| {
+        let text = format!(
+            r#"{{"tube": {{"thickness_mm": 1.27, "mean_diameter_mm": 20.32}},
+                "contact": {{"friction": {friction}}}}}"#
+        );
+        let case = Case::parse(spec_from_json(&text).unwrap(), &Limits::unbounded()).unwrap();
+        let p = plan(&case, Goal::BudgetS(60.0), 2, &Rates::assumed(), &Limits::unbounded());
+        p.options
+            .iter()
+            .filter(|o| o.model == Model::ThreeD && o.shape == ShapeKind::Gimp)
+            .map(|o| o.shows.contains("tip over"))
+            .collect::<Vec<_>>()
+    };
+    let slippery = tip(0.02);
+    assert!(!slippery.is_empty() && slippery.iter().all(|&t| t));
+    // From HOLDING_FRICTION on the plates hold the ends: no warning.
+    assert!(tip(HOLDING_FRICTION).iter().all(|&t| !t));
+    assert!(tip(0.3).iter().all(|&t| !t));
+}

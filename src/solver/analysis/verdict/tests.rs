@@ -332,7 +332,8 @@ fn a_3d_axial_crush_on_linear_shapes_is_caution_for_its_frame_and_on_gimp_or_a_s
             .map(|(_, l)| l)
             .collect::<Vec<_>>()
     };
-    // The thin d20 tube: linear by the default rule, or named.
+    // The thin d20 tube on the default near-frictionless plates: linear by the default rule, or
+    // named.
     let thin = r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32}}"#;
     assert_eq!(frame(thin), [Level::Caution]);
     assert_eq!(
@@ -345,6 +346,8 @@ fn a_3d_axial_crush_on_linear_shapes_is_caution_for_its_frame_and_on_gimp_or_a_s
         "{}",
         r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32},
             "discretization": {"shape": "gimp"}}"#,
+        r#"{"tube": {"thickness_mm": 1.27, "mean_diameter_mm": 20.32},
+            "contact": {"friction": 0.3}}"#,
         r#"{"discretization": {"shape": "linear", "model": "axisymmetric"}}"#,
     ] {
         assert_eq!(frame(quiet), [], "{quiet}");

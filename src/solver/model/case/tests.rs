@@ -5,16 +5,22 @@ use crate::solver::model::cost::{PARTICLE_FIELDS, STEP_FIELDS};
 
 /// A tube of wall t and diameter d with the given discretization JSON, checked.
 fn tube_case(t: f64, d: f64, discretization: &str) -> Case {
+    tube_case_on(t, d, 0.02, discretization)
+}
+
+/// [`tube_case`] between plates of friction μ.
+fn tube_case_on(t: f64, d: f64, friction: f64, discretization: &str) -> Case {
     let text = format!(
         r#"{{"tube": {{"thickness_mm": {t}, "mean_diameter_mm": {d}, "length_mm": 10}},
             "loading": {{"crush_distance_mm": 5}},
+            "contact": {{"friction": {friction}}},
             "discretization": {discretization}}}"#
     );
     Case::from_json(&text, &Limits::default()).unwrap()
 }
 
 #[test]
-fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
+fn the_default_shape_follows_the_wall_and_the_plates_in_3d_and_is_gimp_in_the_sections() {
     // The paper's thick tube (d/t 6.9) and the t 1.27, d 10 tube (d/t 7.9): uGIMP.
     for (t, d) in [(3.2, 22.2), (1.27, 10.0)] {
         let case = tube_case(t, d, "{}");
@@ -26,8 +32,8 @@ fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
             format!("gimp: the default for a wall of d/t = {d_over_t} < 8")
         );
     }
-    // The thin tubes (d/t 9.4–26.1) and the threshold itself: linear, with d/t in the
-    // reason.
+    // The thin tubes (d/t 9.4–26.1) and the threshold itself on the source's near-frictionless
+    // plates: linear, with d/t and μ in the reason.
     for (t, d) in [(1.27, 12.0), (1.27, 20.32)] {
         assert_eq!(
             tube_case(t, d, "{}").shape(),
@@ -40,16 +46,32 @@ fn the_default_shape_follows_the_wall_in_3d_and_is_gimp_in_the_sections() {
     assert_eq!(
         thin.shape_choice().default_reason.as_deref(),
         Some(
-            "linear: the default for a thin wall (d/t = 26.1 >= 8); uGIMP and B-splines \
-             converge but yield both ends of such a tube at once: they fold it from both \
-             plates, or let it tip over on near-frictionless ones; where linear shapes fold \
-             it first follows the wall's motion through the grid (docs/folding.md §4)"
+            "linear: the default for a thin wall (d/t = 26.1 >= 8) on near-frictionless \
+             plates (μ 0.02 < 0.1), between which uGIMP lets such a tube tip over; where \
+             linear shapes fold it first follows the wall's motion through the grid \
+             (docs/folding.md §4)"
         )
     );
-    let at = tube_case(1.0, LINEAR_FROM_D_OVER_T, "{}");
+    let at = tube_case(1.0, THIN_WALL_D_OVER_T, "{}");
     assert_eq!(at.shape(), ShapeKind::Linear);
-    let below = tube_case(1.0, LINEAR_FROM_D_OVER_T - 0.01, "{}");
+    let below = tube_case(1.0, THIN_WALL_D_OVER_T - 0.01, "{}");
     assert_eq!(below.shape(), ShapeKind::Gimp);
+    // On plates that hold the ends (from μ 0.1 on) a thin wall gets uGIMP, which converges
+    // and folds nearly alike whatever the wall's motion through the grid.
+    let held = tube_case_on(0.76, 19.81, 0.3, "{}");
+    assert_eq!(held.shape(), ShapeKind::Gimp);
+    assert_eq!(
+        held.shape_choice().default_reason.as_deref(),
+        Some(
+            "gimp: the default for a thin wall (d/t = 26.1 >= 8) on plates that hold its ends \
+             (μ 0.3 >= 0.1); it folds where the start's wave loads the wall most, often at \
+             both ends (docs/folding.md §4)"
+        )
+    );
+    let at = tube_case_on(1.27, 20.32, HOLDING_FRICTION, "{}");
+    assert_eq!(at.shape(), ShapeKind::Gimp);
+    let below = tube_case_on(1.27, 20.32, HOLDING_FRICTION - 1e-3, "{}");
+    assert_eq!(below.shape(), ShapeKind::Linear);
     // A reduced model has no global buckling to lose: uGIMP, which converges there.
     let section = tube_case(0.76, 19.81, r#"{"model": "axisymmetric"}"#);
     assert_eq!(section.shape(), ShapeKind::Gimp);
