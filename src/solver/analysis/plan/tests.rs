@@ -152,7 +152,13 @@ fn a_thin_walls_3d_ugimp_options_warn_of_tipping_over_on_slippery_plates_only() 
                 "contact": {{"friction": {friction}}}}}"#
         );
         let case = Case::parse(spec_from_json(&text).unwrap(), &Limits::unbounded()).unwrap();
-        let p = plan(&case, Goal::BudgetS(60.0), 2, &Rates::assumed(), &Limits::unbounded());
+        let p = plan(
+            &case,
+            Goal::BudgetS(60.0),
+            2,
+            &Rates::assumed(),
+            &Limits::unbounded(),
+        );
         p.options
             .iter()
             .filter(|o| o.model == Model::ThreeD && o.shape == ShapeKind::Gimp)

@@ -47,7 +47,7 @@ fn the_default_shape_follows_the_wall_and_the_plates_in_3d_and_is_gimp_in_the_se
         thin.shape_choice().default_reason.as_deref(),
         Some(
             "linear: the default for a thin wall (d/t = 26.1 >= 8) on near-frictionless \
-             plates (μ 0.02 < 0.1), between which uGIMP lets such a tube tip over; where \
+             plates (μ 0.02 < 0.2), between which uGIMP lets such a tube tip over; where \
              linear shapes fold it first follows the wall's motion through the grid \
              (docs/folding.md §4)"
         )
@@ -56,7 +56,7 @@ fn the_default_shape_follows_the_wall_and_the_plates_in_3d_and_is_gimp_in_the_se
     assert_eq!(at.shape(), ShapeKind::Linear);
     let below = tube_case(1.0, THIN_WALL_D_OVER_T - 0.01, "{}");
     assert_eq!(below.shape(), ShapeKind::Gimp);
-    // On plates that hold the ends (from μ 0.1 on) a thin wall gets uGIMP, which converges
+    // On plates that hold the ends (from μ 0.2 on) a thin wall gets uGIMP, which converges
     // and folds nearly alike whatever the wall's motion through the grid.
     let held = tube_case_on(0.76, 19.81, 0.3, "{}");
     assert_eq!(held.shape(), ShapeKind::Gimp);
@@ -64,7 +64,7 @@ fn the_default_shape_follows_the_wall_and_the_plates_in_3d_and_is_gimp_in_the_se
         held.shape_choice().default_reason.as_deref(),
         Some(
             "gimp: the default for a thin wall (d/t = 26.1 >= 8) on plates that hold its ends \
-             (μ 0.3 >= 0.1); it folds where the start's wave loads the wall most, often at \
+             (μ 0.3 >= 0.2); it folds where the start's wave loads the wall most, often at \
              both ends (docs/folding.md §4)"
         )
     );
