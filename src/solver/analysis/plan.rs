@@ -13,10 +13,10 @@ pub use errors::{error_table, expected_error_percent, ERROR_BASIS};
 
 use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
+use crate::solver::model::case::{slenderness, ugimp_may_tip_over};
 use crate::solver::model::case::{
     Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, Section, ShapeKind,
 };
-use crate::solver::model::case::{HOLDING_FRICTION, THIN_WALL_D_OVER_T};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -171,16 +171,15 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
     }
     .to_string();
     let section = CrossSection::of(&spec.tube);
-    let d_over_t = section.width_mm() / section.thickness_mm();
     if model == Model::ThreeD
         && shape == ShapeKind::Gimp
-        && d_over_t >= THIN_WALL_D_OVER_T
-        && spec.contact.friction < HOLDING_FRICTION
+        && ugimp_may_tip_over(&section, spec.contact.friction)
     {
         s.push_str(&format!(
-            "; uGIMP can let a wall this thin ({}/t = {d_over_t:.1}) tip over on plates this \
+            "; uGIMP can let a wall this thin ({}/t = {:.1}) tip over on plates this \
              slippery (μ {})",
             section.width_symbol(),
+            slenderness(&section),
             spec.contact.friction
         ));
     }

@@ -203,8 +203,7 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
                 detail: FRAME_DEPENDENT.into(),
             });
         }
-        let thin = geometry.section.width_mm() / geometry.section.thickness_mm()
-            >= crate::solver::model::case::THIN_WALL_D_OVER_T;
+        let thin = crate::solver::model::case::is_thin(&geometry.section);
         if geometry.model == Model::ThreeD && thin && spec.trigger.weak_fraction > 0.0 {
             reasons.push(Reason {
                 rule: Rule::SeedSensitiveMode,

@@ -5,7 +5,9 @@
 
 pub use super::geometry::{CrossSection, Geometry, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
-pub use super::policy::{ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T};
+pub use super::policy::{
+    is_thin, slenderness, ugimp_may_tip_over, ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T,
+};
 pub use super::spec::*;
 
 use super::checks::{self, Checker};

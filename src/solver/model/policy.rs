@@ -20,6 +20,23 @@ pub const THIN_WALL_D_OVER_T: f64 = 8.0;
 /// 12 mm tubes, which tipped over on 0.02, already stand on 0.1.
 pub const HOLDING_FRICTION: f64 = 0.2;
 
+/// A section's slenderness: its width over its wall (d/t; b/t for a rectangle, b its larger
+/// side).
+pub fn slenderness(section: &CrossSection) -> f64 {
+    section.width_mm() / section.thickness_mm()
+}
+
+/// Whether a wall is thin (slenderness ≥ [`THIN_WALL_D_OVER_T`]).
+pub fn is_thin(section: &CrossSection) -> bool {
+    slenderness(section) >= THIN_WALL_D_OVER_T
+}
+
+/// Whether uGIMP can let this wall tip over in 3D between plates of this friction: a thin
+/// wall on plates below [`HOLDING_FRICTION`].
+pub fn ugimp_may_tip_over(section: &CrossSection, friction: f64) -> bool {
+    is_thin(section) && friction < HOLDING_FRICTION
+}
+
 /// The shape functions a case runs with, and whether the case named them.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 pub struct ShapeChoice {
@@ -39,11 +56,10 @@ impl ShapeKind {
     /// (their folds follow the wall's motion through the grid, and the verdict says so:
     /// `frame_dependent`). A rectangular section's slenderness is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model, friction: f64) -> ShapeChoice {
-        let slenderness = section.width_mm() / section.thickness_mm();
+        let slenderness = slenderness(section);
         let w = section.width_symbol();
-        let thin = slenderness >= THIN_WALL_D_OVER_T;
         let (kind, why) = match model {
-            Model::ThreeD if thin && friction < HOLDING_FRICTION => (
+            Model::ThreeD if ugimp_may_tip_over(section, friction) => (
                 ShapeKind::Linear,
                 format!(
                     "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
@@ -53,7 +69,7 @@ impl ShapeKind {
                      grid (docs/folding.md §4)"
                 ),
             ),
-            Model::ThreeD if thin => (
+            Model::ThreeD if is_thin(section) => (
                 ShapeKind::Gimp,
                 format!(
                     "gimp: the default for a thin wall ({w}/t = {slenderness:.1} >= \

@@ -1,5 +1,5 @@
 use super::*;
-use crate::solver::model::case::spec_from_json;
+use crate::solver::model::case::{spec_from_json, HOLDING_FRICTION};
 
 fn option(model: Model, n: u32, error: Option<f64>, wall_time_s: f64) -> PlanOption {
     PlanOption {
