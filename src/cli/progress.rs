@@ -94,6 +94,7 @@ mod tests {
             fraction: 0.25,
             elapsed_s: 30.0,
             eta_s: 0.0,
+            error_bar: None,
         };
         // No solver ETA: 30 s for a quarter → 90 s to go.
         assert_eq!(progress_message(&p), "u 12.35 mm  P 10.520 kN  ETA 1:30");

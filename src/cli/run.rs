@@ -94,9 +94,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let result = result.and_then(|mut output| {
         if args.error_bar {
             eprintln!("pricing the mean load's error bar (its section at three resolutions)");
-            runner.add_error_bar(&case, &mut output, &cancel)?;
+            runner.add_error_bar(&case, &mut output, &mut (), &cancel)?;
         } else {
-            runner.add_error_bar_if_asked(&case, &mut output, &cancel)?;
+            runner.add_error_bar_if_asked(&case, &mut output, &mut (), &cancel)?;
         }
         Ok(output)
     });

@@ -13,6 +13,7 @@ pub mod guard;
 pub mod hub;
 mod metrics;
 mod retention;
+mod retry;
 mod routes;
 mod series;
 pub mod store;
@@ -98,6 +99,11 @@ pub struct ServeArgs {
     /// Largest checkpoint stored, MB (about 116 bytes a particle): a larger job stores none.
     #[arg(long, env = "CRUSH_CHECKPOINT_MAX_MB", default_value_t = 256)]
     pub checkpoint_max_mb: u64,
+    /// How long a running job retries a write the database refuses while it is away (down,
+    /// restarting, locked, full), s: its frames, checkpoints and outcome. A frame still refused
+    /// then fails the job, saying why; a job never ends `succeeded` without all it promised.
+    #[arg(long, env = "CRUSH_STORE_RETRY_S", default_value_t = 600.0)]
+    pub store_retry_s: f64,
     /// Delete finished jobs, and sweeps whose jobs have all finished, this many days after they
     /// finished (fractions allowed; 0: keep everything).
     #[arg(long, env = "CRUSH_KEEP_DAYS", default_value_t = 0.0)]
@@ -244,6 +250,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
             },
             max_bytes: args.checkpoint_max_mb.saturating_mul(1_000_000),
         },
+        store_patience: args.seconds("--store-retry-s", args.store_retry_s)?,
     };
     let workers = Workers::new(store.clone(), hub.clone(), config, shutdown_rx.clone());
     let limits = HttpLimits {

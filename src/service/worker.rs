@@ -4,15 +4,18 @@
 
 use super::checkpointing::{self, RunObserver};
 use super::hub::{self, Hub, JobObserver};
+use super::retry::{self, Trouble};
 use super::series;
 use super::store::{signals, Claimed, Result as StoreResult, Signal, Status, Store, Succeeded};
 use super::views;
 use crate::export;
+use crate::solver::analysis::error_bar::Rung;
 use crate::solver::{Case, Checkpoint, Limits, Progress, Resume, RunOutput, Runner, SolveError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+use futures::future::OptionFuture;
 use tokio::sync::{oneshot, watch, Notify};
 use uuid::Uuid;
 
@@ -33,6 +36,9 @@ pub struct WorkerConfig {
     pub node: String,
     /// When running jobs store checkpoints.
     pub checkpoints: checkpointing::Policy,
+    /// How long a running job retries a write the database refuses for a reason that heals
+    /// (its frames, checkpoints, outcome) before the write counts as failed.
+    pub store_patience: Duration,
 }
 
 /// A job running in this process.
@@ -229,7 +235,12 @@ impl Workers {
                 tracing::error!(error = %e, "the database file is gone: no job is claimed or stored");
             }
             let stale = self.config.stale_after.as_millis() as i64;
-            match self.store.reap_stale(stale, self.config.max_attempts).await {
+            let alive: Vec<Uuid> = self.running().keys().copied().collect();
+            let reaped = self
+                .store
+                .reap_stale(stale, self.config.max_attempts, &alive)
+                .await;
+            match reaped {
                 Ok(r) => {
                     for id in &r.requeued {
                         tracing::warn!(job = %id, "worker lost: job requeued");
@@ -262,19 +273,28 @@ impl Workers {
             latest: Arc::new(Mutex::new(None)),
         });
         let _tracked = Tracked::insert(self, job.id, running.clone());
-        let (outcome, publisher, keep_state) = match case {
+        let (outcome, publisher, promised) = match case {
             Ok(case) => {
-                let keep_state = case.spec().output.final_state;
+                let output = &case.spec().output;
+                let promised = Promised {
+                    final_state: output.final_state,
+                    frames: output.frames,
+                };
                 let (outcome, publisher) = self.execute(&job, case, &running).await;
-                (outcome, publisher, keep_state)
+                (outcome, publisher, promised)
             }
-            Err(e) => (Outcome::Failed(e.to_string()), None, false),
+            Err(e) => (Outcome::Failed(e.to_string()), None, Promised::default()),
         };
         let latest = *running.latest.lock().unwrap_or_else(|e| e.into_inner());
         let progress_json = latest.map(|p| serde_json::to_string(&p).unwrap_or_default());
-        let stored = self
-            .store_outcome(&job, &outcome, progress_json.as_deref(), keep_state)
-            .await;
+        let store = || self.store_outcome(&job, &outcome, progress_json.as_deref(), promised);
+        let stored = retry::until_stored(
+            "the job's outcome",
+            job.id,
+            self.config.store_patience,
+            store,
+        )
+        .await;
         self.announce(&job, stored, publisher).await;
     }
 
@@ -297,6 +317,12 @@ impl Workers {
         let particles = running.particles;
         let case = Arc::new(case);
         let from = self.read_checkpoint(job, &case).await;
+        let done = match &from {
+            Some(_) => self.read_ladder(job).await,
+            None => Vec::new(),
+        };
+        let patience = self.config.store_patience;
+        let trouble = Trouble::new(running.cancel.clone());
         let mut publisher = self.hub.publisher(id, job.attempt);
         let mut status = serde_json::json!({"status": "running", "attempt": job.attempt});
         if let Some((step, fraction, _)) = &from {
@@ -307,12 +333,21 @@ impl Workers {
         let started = checkpointing::start(
             self.config.checkpoints,
             size,
+            Runner::may_price_error_bar(&case),
             running.stopping.clone(),
             self.store.clone(),
             job.clone(),
+            patience,
         );
         let (sink, writer) = started.unzip();
-        let series = series::start(case.spec().output.frames, self.store.clone(), job.clone());
+        let frames = case.spec().output.frames;
+        let series = series::start(
+            frames,
+            self.store.clone(),
+            job.clone(),
+            patience,
+            trouble.clone(),
+        );
         let (frames, frame_writer) = series.unzip();
         let mut observer = RunObserver {
             job: JobObserver {
@@ -321,6 +356,7 @@ impl Workers {
             },
             sink,
             frames,
+            done,
         };
         tracing::info!(job = %id, attempt = job.attempt, particles, "job started");
         let (stop_beating, beats_stop) = oneshot::channel::<()>();
@@ -337,7 +373,7 @@ impl Workers {
             let out = runner
                 .resume(&case, from, &mut observer, &cancel)
                 .and_then(|mut out| {
-                    runner.add_error_bar_if_asked(&case, &mut out, &cancel)?;
+                    runner.add_error_bar_if_asked(&case, &mut out, &mut observer, &cancel)?;
                     Ok(out)
                 });
             // The sinks go with the observer: the writers store what they have and end.
@@ -349,13 +385,17 @@ impl Workers {
         // an unreachable store is left to end on its own after a minute.
         drop(stop_beating);
         let _ = tokio::time::timeout(Duration::from_secs(60), heartbeat).await;
-        if let Some(writer) = writer {
-            let _ = writer.await;
-        }
-        if let Some(writer) = frame_writer {
-            let _ = writer.await;
+        for (what, writer) in [("checkpoint", writer), ("frame", frame_writer)] {
+            if let Some(Err(e)) = OptionFuture::from(writer).await {
+                tracing::error!(job = %id, error = %e, "the {what} writer panicked");
+            }
         }
         let user_cancel = running.user_cancel.load(Ordering::Relaxed);
+        if let Some(why) = trouble.why().filter(|_| !user_cancel) {
+            tracing::error!(job = %id, reason = %why, "the job fails: its results could not all be stored");
+            let publisher = result.ok().map(|(_, publisher)| publisher);
+            return (Outcome::Failed(why), publisher);
+        }
         match result {
             Ok((out, publisher)) => (Outcome::of(Ok(out), user_cancel), Some(publisher)),
             Err(e) => {
@@ -399,6 +439,30 @@ impl Workers {
         }
     }
 
+    /// The rungs of the job's error-bar ladder an earlier claim finished (none when it has
+    /// none, or they do not read: they are run again).
+    async fn read_ladder(&self, job: &Claimed) -> Vec<Rung> {
+        let json = match self.store.ladder(job.id).await {
+            Ok(json) => json,
+            Err(e) => {
+                tracing::error!(job = %job.id, error = %e, "reading the error bar's rungs failed: they run again");
+                None
+            }
+        };
+        let rungs = json.map(|j| serde_json::from_str::<Vec<Rung>>(&j));
+        match rungs {
+            Some(Ok(rungs)) => {
+                tracing::info!(job = %job.id, rungs = rungs.len(), "resuming the error bar's ladder");
+                rungs
+            }
+            Some(Err(e)) => {
+                tracing::warn!(job = %job.id, error = %e, "the error bar's rungs do not read: they run again");
+                Vec::new()
+            }
+            None => Vec::new(),
+        }
+    }
+
     /// The one store step of an outcome: the status now stored, or `None` when the lease was
     /// lost (another worker has the job; nothing was written).
     async fn store_outcome(
@@ -406,19 +470,22 @@ impl Workers {
         job: &Claimed,
         outcome: &Outcome,
         progress_json: Option<&str>,
-        keep_state: bool,
+        promised: Promised,
     ) -> StoreResult<Option<Status>> {
         let (id, lease) = (job.id, job.lease);
         match outcome {
             Outcome::Succeeded(out) => {
-                let state = keep_state.then(|| export::vtu::encode(&out.snapshot));
+                let state = promised
+                    .final_state
+                    .then(|| export::vtu::encode(&out.snapshot));
+                let particles = out.snapshot.position_mm.len();
                 let result = Succeeded {
                     history: &out.history,
                     summary: &out.summary,
-                    final_state: state
-                        .as_deref()
-                        .map(|bytes| (out.snapshot.position_mm.len(), bytes)),
+                    final_state: state.as_deref().map(|bytes| (particles, bytes)),
                     progress_json,
+                    frames: promised.frames,
+                    particles,
                 };
                 let stored = self.store.finish_succeeded(id, lease, result).await?;
                 if stored == Some(Status::Succeeded) {
@@ -483,6 +550,15 @@ impl Workers {
             }
         }
     }
+}
+
+/// What a succeeded run of a case must have stored besides its history and summary.
+#[derive(Debug, Clone, Copy, Default)]
+struct Promised {
+    /// The final particle state (`output.final_state`).
+    final_state: bool,
+    /// The frames of its series (`output.frames`).
+    frames: u32,
 }
 
 /// How a claimed run ended.
@@ -619,6 +695,7 @@ mod tests {
             fraction: 0.25,
             elapsed_s: 1.0,
             eta_s: 3.0,
+            error_bar: None,
         };
         let running = Arc::new(Running {
             cancel: Arc::new(AtomicBool::new(false)),

@@ -29,10 +29,10 @@ pub use analysis::reference::{references, References};
 pub use analysis::summary::{summarize, EnergyBooks, Summary};
 pub use engine::checkpoint::{Checkpoint, CheckpointError, Resume};
 pub use engine::history::HistoryRow;
-pub use engine::observer::{Frame, Observer, Progress, Recorder};
+pub use engine::observer::{Frame, Observer, Progress, Recorder, RungProgress};
 pub use engine::{Finished, RunCost, Snapshot, SolveError};
 pub use model::case::{Case, CaseError, CaseSpec, FieldError, Limits};
-pub use runner::{cores, Runner};
+pub use runner::{cores, LadderObserver, Runner};
 
 use engine::scene::Scene;
 use std::sync::atomic::AtomicBool;

@@ -3,11 +3,11 @@
 //! was given whatever else the process runs, and its results do not depend on them (every sum
 //! of a step runs in a fixed order).
 
-use super::analysis::error_bar::{self, ErrorBar};
+use super::analysis::error_bar::{self, ErrorBar, Rung};
 use super::analysis::estimate::{error_bar_cost_fraction, UNASKED_ERROR_BAR_FRACTION};
 use super::engine::scene::Scene;
 use super::model::case::Model;
-use super::{Case, Observer, Resume, RunOutput, SolveError};
+use super::{Case, Observer, Resume, RunOutput, RungProgress, SolveError};
 use std::sync::atomic::AtomicBool;
 
 /// The machine's cores (1 when it cannot tell).
@@ -79,25 +79,38 @@ impl Runner {
         })
     }
 
+    /// Whether a run of `case` may price its error bar after it: the case asks for one, or its
+    /// ladder costs at most [`UNASKED_ERROR_BAR_FRACTION`] of the run (the run's summary can
+    /// still show that it has no ladder).
+    pub fn may_price_error_bar(case: &Case) -> bool {
+        case.spec().output.error_bar
+            || error_bar_cost_fraction(case).is_some_and(|f| f <= UNASKED_ERROR_BAR_FRACTION)
+    }
+
     /// The run's error bar ([`error_bar`]), or why it has none, in the output's summary: its
     /// reduced twin run at the ladder's resolutions on the pool when the case asks for it
     /// (`output.error_bar`) or when that costs at most [`UNASKED_ERROR_BAR_FRACTION`] of the
     /// run; else the summary says why not (no ladder for this run, or what it would cost).
+    /// `ladder` is told each rung's progress and result, and hands back the rungs an earlier
+    /// attempt finished, which are not run again.
     pub fn add_error_bar_if_asked(
         &self,
         case: &Case,
         out: &mut RunOutput,
+        ladder: &mut (dyn LadderObserver + Send),
         cancel: &AtomicBool,
     ) -> Result<(), SolveError> {
         if case.spec().output.error_bar {
-            return self.add_error_bar(case, out, cancel);
+            return self.add_error_bar(case, out, ladder, cancel);
         }
         if let Err(why) = error_bar::ladder(case, &out.summary) {
             out.summary.error_bar = Some(ErrorBar::Unavailable { why });
             return Ok(());
         }
         match error_bar_cost_fraction(case) {
-            Some(f) if f <= UNASKED_ERROR_BAR_FRACTION => self.add_error_bar(case, out, cancel)?,
+            Some(f) if f <= UNASKED_ERROR_BAR_FRACTION => {
+                self.add_error_bar(case, out, ladder, cancel)?
+            }
             Some(f) => {
                 out.summary.error_bar = Some(ErrorBar::Unavailable {
                     why: format!(
@@ -119,27 +132,41 @@ impl Runner {
         &self,
         case: &Case,
         out: &mut RunOutput,
+        ladder: &mut (dyn LadderObserver + Send),
         cancel: &AtomicBool,
     ) -> Result<(), SolveError> {
         let bar = match error_bar::ladder(case, &out.summary) {
             Err(why) => ErrorBar::Unavailable { why },
             Ok(rungs) => {
-                let mut done = Vec::with_capacity(rungs.len());
+                let total = rungs.len();
+                let mut done = Vec::with_capacity(total);
                 let mut model = None;
-                for (n, twin) in rungs {
-                    let summary = match twin {
+                for (index, (n, twin)) in rungs.into_iter().enumerate() {
+                    let rung = match twin {
                         Some(twin) => {
                             model = Some(twin.spec().discretization.model);
-                            &self.run(&twin, &mut (), cancel)?.summary
+                            match ladder.done(index, n) {
+                                Some(rung) => rung,
+                                None => {
+                                    let mut rung_observer = RungObserver {
+                                        ladder: &mut *ladder,
+                                        at: RungProgress {
+                                            rung: index as u32 + 1,
+                                            rungs: total as u32,
+                                            n,
+                                            fraction: 0.0,
+                                        },
+                                    };
+                                    let summary = self.run(&twin, &mut rung_observer, cancel)?.summary;
+                                    let rung = error_bar::Rung::of(n, &summary);
+                                    ladder.on_rung(index, &rung);
+                                    rung
+                                }
+                            }
                         }
-                        None => &out.summary,
+                        None => error_bar::Rung::of(n, &out.summary),
                     };
-                    done.push(error_bar::Rung {
-                        n,
-                        mean_load_n: summary.mean_load_n,
-                        first_peak_load_n: summary.measures.first_peak_load_n,
-                        wall_time_s: summary.cost.wall_time_s,
-                    });
+                    done.push(rung);
                 }
                 let three_d = case.spec().discretization.model == Model::ThreeD;
                 let model = model.unwrap_or(case.spec().discretization.model);
@@ -154,5 +181,34 @@ impl Runner {
     /// Anything else on the pool (the bench's timed steps).
     pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
         self.pool.install(f)
+    }
+}
+
+/// What the pricing of a run's error bar tells as it goes, and the rungs it need not run again.
+/// Every method defaults to nothing.
+pub trait LadderObserver {
+    /// Rung `index` (from 0, at `n` particles through the wall) as an earlier attempt finished
+    /// it: it is not run again.
+    fn done(&self, _index: usize, _n: u32) -> Option<Rung> {
+        None
+    }
+    /// How far the rung that runs is, once per history row of its run.
+    fn on_rung_progress(&mut self, _progress: &RungProgress) {}
+    /// Rung `index` (from 0) is done.
+    fn on_rung(&mut self, _index: usize, _rung: &Rung) {}
+}
+
+impl LadderObserver for () {}
+
+/// A rung's run observed for its ladder: its progress, as the ladder's.
+struct RungObserver<'a> {
+    ladder: &'a mut (dyn LadderObserver + Send),
+    at: RungProgress,
+}
+
+impl Observer for RungObserver<'_> {
+    fn on_progress(&mut self, progress: &super::Progress) {
+        self.at.fraction = progress.fraction;
+        self.ladder.on_rung_progress(&self.at);
     }
 }

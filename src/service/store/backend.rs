@@ -26,6 +26,11 @@ pub(super) enum Backend {
     Sqlite {
         /// The database file as opened.
         file: Arc<DbFile>,
+        /// This process's turn at the file's one writer, taken before `BEGIN IMMEDIATE`: the
+        /// writers of one process then go first come, first served. SQLite's own wait for the
+        /// lock polls, so a writer that commits and begins again at once (a long history
+        /// stored in batches) would otherwise keep the lock from the others for seconds.
+        writer: Arc<tokio::sync::Mutex<()>>,
     },
     Postgres {
         /// The connection URL, for the listener's own connection.
@@ -66,6 +71,15 @@ impl Backend {
         match self {
             Backend::Sqlite { .. } => "",
             Backend::Postgres { .. } => " FOR UPDATE SKIP LOCKED",
+        }
+    }
+
+    /// This process's turn at the database's one writer (SQLite), waited for first come,
+    /// first served; `None` where writers do not take turns (PostgreSQL).
+    pub(super) async fn writer_turn(&self) -> Option<tokio::sync::OwnedMutexGuard<()>> {
+        match self {
+            Backend::Sqlite { writer, .. } => Some(writer.clone().lock_owned().await),
+            Backend::Postgres { .. } => None,
         }
     }
 
@@ -117,7 +131,7 @@ impl Backend {
 
     pub(super) fn file(&self) -> Option<&DbFile> {
         match self {
-            Backend::Sqlite { file } => Some(file),
+            Backend::Sqlite { file, .. } => Some(file),
             Backend::Postgres { .. } => None,
         }
     }

@@ -5,7 +5,6 @@
 
 use super::worker::holds;
 use super::{now_ms, Result, Store};
-use sqlx::Any;
 use uuid::Uuid;
 
 /// A job's stored checkpoint.
@@ -39,7 +38,7 @@ impl Store {
             "INSERT INTO checkpoints (job_id, attempt, step, fraction, written_at, data) \
              VALUES ($1, $2, $3, $4, $5, $6) ON CONFLICT (job_id) DO UPDATE SET \
              attempt = excluded.attempt, step = excluded.step, fraction = excluded.fraction, \
-             written_at = excluded.written_at, data = excluded.data",
+             written_at = excluded.written_at, data = excluded.data, ladder_json = NULL",
         )
         .bind(id.to_string())
         .bind(checkpoint.attempt)
@@ -49,13 +48,11 @@ impl Store {
         .bind(checkpoint.data.as_slice())
         .execute(&mut *tx)
         .await?;
+        advanced(&mut tx, id, checkpoint.attempt).await?;
         sqlx::query(
-            "UPDATE jobs SET advanced = advanced + \
-             (CASE WHEN COALESCE(checkpoint_attempt, 0) = $1 THEN 0 ELSE 1 END), \
-             checkpoint_attempt = $1, checkpoint_step = $2, checkpoint_fraction = $3, \
-             checkpoint_at = $4 WHERE id = $5",
+            "UPDATE jobs SET checkpoint_step = $1, checkpoint_fraction = $2, checkpoint_at = $3 \
+             WHERE id = $4",
         )
-        .bind(checkpoint.attempt)
         .bind(checkpoint.step)
         .bind(checkpoint.fraction)
         .bind(now)
@@ -64,6 +61,45 @@ impl Store {
         .await?;
         tx.commit().await?;
         Ok(true)
+    }
+
+    /// Stores the rungs of job `id`'s error-bar ladder that claim `attempt` has finished
+    /// (`ladder_json`, beside the checkpoint of the finished run), while `lease` holds the job,
+    /// and counts the claim as one that moved the job on. False when the lease was lost or the
+    /// job has no checkpoint to keep them beside: nothing is written.
+    pub async fn save_ladder(
+        &self,
+        id: Uuid,
+        lease: Uuid,
+        attempt: i64,
+        ladder_json: &str,
+    ) -> Result<bool> {
+        let mut tx = self.write().await?;
+        if holds(&self.backend, &mut tx, id, lease).await?.is_none() {
+            return Ok(false);
+        }
+        let kept = sqlx::query("UPDATE checkpoints SET ladder_json = $1 WHERE job_id = $2")
+            .bind(ladder_json)
+            .bind(id.to_string())
+            .execute(&mut *tx)
+            .await?
+            .rows_affected();
+        if kept == 0 {
+            return Ok(false);
+        }
+        advanced(&mut tx, id, attempt).await?;
+        tx.commit().await?;
+        Ok(true)
+    }
+
+    /// The rungs of job `id`'s ladder stored so far, as JSON; `None` when it has none.
+    pub async fn ladder(&self, id: Uuid) -> Result<Option<String>> {
+        let row: Option<(Option<String>,)> =
+            sqlx::query_as("SELECT ladder_json FROM checkpoints WHERE job_id = $1")
+                .bind(id.to_string())
+                .fetch_optional(&self.pool)
+                .await?;
+        Ok(row.and_then(|(json,)| json))
     }
 
     /// Job `id`'s checkpoint, if it has one.
@@ -93,9 +129,23 @@ impl Store {
     }
 }
 
+/// Counts claim `attempt` of job `id` as one that moved the job on (once per claim).
+async fn advanced(tx: &mut super::WriteTx, id: Uuid, attempt: i64) -> Result<()> {
+    sqlx::query(
+        "UPDATE jobs SET advanced = advanced + \
+         (CASE WHEN COALESCE(checkpoint_attempt, 0) = $1 THEN 0 ELSE 1 END), \
+         checkpoint_attempt = $1 WHERE id = $2",
+    )
+    .bind(attempt)
+    .bind(id.to_string())
+    .execute(&mut **tx)
+    .await?;
+    Ok(())
+}
+
 /// Deletes job `job`'s checkpoint and its place in the job's row: the job has ended (or its
 /// checkpoint cannot be used).
-pub(super) async fn forget(tx: &mut sqlx::Transaction<'static, Any>, job: &str) -> Result<()> {
+pub(super) async fn forget(tx: &mut super::WriteTx, job: &str) -> Result<()> {
     sqlx::query("DELETE FROM checkpoints WHERE job_id = $1")
         .bind(job)
         .execute(&mut **tx)
@@ -155,7 +205,7 @@ mod tests {
             .await
             .unwrap());
         assert_eq!(
-            store.reap_stale(-1000, 1).await.unwrap().requeued,
+            store.reap_stale(-1000, 1, &[]).await.unwrap().requeued,
             vec![j.id]
         );
         let rec = store.job(j.id).await.unwrap().unwrap();
@@ -176,7 +226,7 @@ mod tests {
         );
         // A claim that stores nothing counts: the one attempt allowed is used up.
         store.claim("c").await.unwrap().unwrap();
-        let reaped = store.reap_stale(-1000, 1).await.unwrap();
+        let reaped = store.reap_stale(-1000, 1, &[]).await.unwrap();
         assert_eq!(reaped.failed, vec![j.id]);
         let rec = store.job(j.id).await.unwrap().unwrap();
         let error = rec.error.unwrap();
@@ -194,7 +244,7 @@ mod tests {
         let j = job();
         store.submit(j.clone(), 10).await.unwrap();
         let first = store.claim("a").await.unwrap().unwrap();
-        store.reap_stale(-1000, 5).await.unwrap();
+        store.reap_stale(-1000, 5, &[]).await.unwrap();
         assert!(!store
             .save_checkpoint(j.id, first.lease, &checkpoint(1, 10))
             .await
@@ -218,6 +268,8 @@ mod tests {
             summary: &summary,
             final_state: None,
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         store
             .finish_succeeded(j.id, second.lease, result)
@@ -225,5 +277,45 @@ mod tests {
             .unwrap();
         assert_eq!(store.checkpoint(j.id).await.unwrap(), None);
         assert_eq!(store.job(j.id).await.unwrap().unwrap().checkpoint, None);
+    }
+
+    /// What broke: an interruption while the error bar was priced recomputed the crush and
+    /// every rung, and used up the job's attempts although its run had finished.
+    #[tokio::test]
+    async fn the_rungs_of_a_ladder_are_kept_beside_the_finished_run_and_move_the_job_on() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let first = store.claim("a").await.unwrap().unwrap();
+        assert!(
+            !store.save_ladder(j.id, first.lease, 1, "[]").await.unwrap(),
+            "no ladder without the finished run's checkpoint"
+        );
+        assert!(store
+            .save_checkpoint(j.id, first.lease, &checkpoint(1, 100))
+            .await
+            .unwrap());
+        assert!(store
+            .save_ladder(j.id, first.lease, 1, "[1]")
+            .await
+            .unwrap());
+        assert_eq!(store.ladder(j.id).await.unwrap().as_deref(), Some("[1]"));
+        assert_eq!(store.requeue(j.id, first.lease, 1).await.unwrap(), Some(Status::Queued));
+        // The next claim finishes a rung and nothing else: it moved the job on, so with one
+        // fruitless claim allowed the job is requeued again, not failed.
+        let second = store.claim("a").await.unwrap().unwrap();
+        assert!(store
+            .save_ladder(j.id, second.lease, 2, "[1,2]")
+            .await
+            .unwrap());
+        assert_eq!(store.requeue(j.id, second.lease, 1).await.unwrap(), Some(Status::Queued));
+        assert_eq!(store.ladder(j.id).await.unwrap().as_deref(), Some("[1,2]"));
+        // A new checkpoint of the run (another run's state) clears the rungs it had.
+        let third = store.claim("a").await.unwrap().unwrap();
+        assert!(store
+            .save_checkpoint(j.id, third.lease, &checkpoint(3, 50))
+            .await
+            .unwrap());
+        assert_eq!(store.ladder(j.id).await.unwrap(), None);
     }
 }

@@ -6,7 +6,7 @@
 use super::worker::holds;
 use super::{Result, Store};
 use crate::export::series::{FrameTime, FRAME_BYTES_PER_PARTICLE};
-use sqlx::{Any, Row};
+use sqlx::Row;
 use uuid::Uuid;
 
 /// Particles in one stored part of a frame (3.5 MB).
@@ -107,7 +107,7 @@ impl Store {
 }
 
 /// Deletes job `job`'s frames: its run failed or was cancelled.
-pub(super) async fn forget(tx: &mut sqlx::Transaction<'static, Any>, job: &str) -> Result<()> {
+pub(super) async fn forget(tx: &mut super::WriteTx, job: &str) -> Result<()> {
     sqlx::query("DELETE FROM frames WHERE job_id = $1")
         .bind(job)
         .execute(&mut **tx)

@@ -3,7 +3,6 @@
 
 use super::{job_from_row, now_ms, JobRecord, Result, Status, Store, JOB_COLUMNS, JOB_FROM};
 use crate::solver::HistoryRow;
-use sqlx::{Any, Transaction};
 use uuid::Uuid;
 
 /// A job to insert.
@@ -253,7 +252,7 @@ pub(super) fn like_pattern(text: &str) -> String {
 }
 
 /// Jobs waiting to run.
-pub(super) async fn queue_depth(tx: &mut Transaction<'static, Any>) -> Result<i64> {
+pub(super) async fn queue_depth(tx: &mut super::WriteTx) -> Result<i64> {
     let (n,): (i64,) = sqlx::query_as("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
         .fetch_one(&mut **tx)
         .await?;
@@ -263,7 +262,7 @@ pub(super) async fn queue_depth(tx: &mut Transaction<'static, Any>) -> Result<i6
 /// Inserts a queued job submitted by `owner`; `sweep` is (sweep id, index, swept values as
 /// JSON).
 pub(super) async fn insert_job(
-    tx: &mut Transaction<'static, Any>,
+    tx: &mut super::WriteTx,
     job: &NewJob,
     owner: Option<&str>,
     sweep: Option<(Uuid, i64, &str)>,

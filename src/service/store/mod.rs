@@ -194,6 +194,7 @@ impl Store {
         } else if url.starts_with("sqlite:") {
             Backend::Sqlite {
                 file: Arc::new(create_sqlite(url).await?),
+                writer: Arc::new(tokio::sync::Mutex::new(())),
             }
         } else {
             return Err(StoreError::Url(format!(
@@ -240,14 +241,16 @@ impl Store {
     /// A write transaction: on SQLite it holds the write lock from its first statement; on
     /// PostgreSQL its statements lock what they change. Refused when the SQLite file is no
     /// longer the one opened: a write there would be lost.
-    async fn write(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>> {
+    async fn write(&self) -> Result<WriteTx> {
         self.check_file()?;
-        Ok(self.pool.begin_with(self.backend.begin()).await?)
+        let turn = self.backend.writer_turn().await;
+        let tx = self.pool.begin_with(self.backend.begin()).await?;
+        Ok(WriteTx { tx, _turn: turn })
     }
 
     /// A write transaction that is the only submit at a time, so that the queue bound and the
     /// idempotency check see every submit before it.
-    async fn write_submit(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>> {
+    async fn write_submit(&self) -> Result<WriteTx> {
         let mut tx = self.write().await?;
         if let Some(lock) = self.backend.submit_lock() {
             sqlx::query(lock).execute(&mut *tx).await?;
@@ -298,6 +301,36 @@ impl Store {
 
     pub async fn close(&self) {
         self.pool.close().await;
+    }
+}
+
+/// A write transaction ([`Store::write`]) with this process's turn at the writer, given back
+/// when it ends. Statements run on it as on the transaction (`&mut *tx`).
+pub(super) struct WriteTx {
+    tx: sqlx::Transaction<'static, sqlx::Any>,
+    _turn: Option<tokio::sync::OwnedMutexGuard<()>>,
+}
+
+impl WriteTx {
+    pub(super) async fn commit(self) -> std::result::Result<(), sqlx::Error> {
+        self.tx.commit().await
+    }
+
+    pub(super) async fn rollback(self) -> std::result::Result<(), sqlx::Error> {
+        self.tx.rollback().await
+    }
+}
+
+impl std::ops::Deref for WriteTx {
+    type Target = sqlx::AnyConnection;
+    fn deref(&self) -> &sqlx::AnyConnection {
+        &self.tx
+    }
+}
+
+impl std::ops::DerefMut for WriteTx {
+    fn deref_mut(&mut self) -> &mut sqlx::AnyConnection {
+        &mut self.tx
     }
 }
 

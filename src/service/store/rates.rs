@@ -85,6 +85,8 @@ mod tests {
             summary: &summary,
             final_state: None,
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         let stored = store.finish_succeeded(id, claim.lease, result).await;
         assert_eq!(stored.unwrap(), Some(Status::Succeeded));

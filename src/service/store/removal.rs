@@ -4,7 +4,6 @@
 //! sweep's jobs go with it, in the same transaction.
 
 use super::{now_ms, Result, Status, Store};
-use sqlx::{Any, Transaction};
 use uuid::Uuid;
 
 /// What a delete did.
@@ -154,7 +153,7 @@ impl Store {
 /// Deletes the jobs `condition` (with one parameter, `key`) selects; their summaries,
 /// histories, final states and checkpoints go with them.
 async fn delete_jobs(
-    tx: &mut Transaction<'static, Any>,
+    tx: &mut super::WriteTx,
     condition: &str,
     key: &str,
 ) -> Result<u64> {
@@ -207,6 +206,8 @@ mod tests {
             summary: &summary,
             final_state: Some((1, &[0u8; 16])),
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         store
             .finish_succeeded(claim.id, claim.lease, result)

@@ -6,7 +6,6 @@
 
 use super::{now_ms, Result, Status, Store};
 use crate::solver::{HistoryRow, Summary};
-use sqlx::Any;
 use uuid::Uuid;
 
 /// A job a worker has claimed.
@@ -36,11 +35,19 @@ pub struct Succeeded<'a> {
     pub final_state: Option<(usize, &'a [u8])>,
     /// The last progress report, as JSON.
     pub progress_json: Option<&'a str>,
+    /// Frames the run's series promised (`output.frames`; 0: none), each of `particles`.
+    pub frames: u32,
+    pub particles: usize,
 }
 
-/// History rows per INSERT statement (2 + `HistoryRow::COLUMNS.len()` bound values each, far
-/// below SQLite's limit of 32 766 and PostgreSQL's of 65 535).
-const HISTORY_CHUNK: usize = 500;
+/// History rows per INSERT statement (2 + `HistoryRow::COLUMNS.len()` bound values each). The
+/// cost of a statement on SQLite grows faster than its rows: 10 000 rows took 2.1 s in
+/// statements of 500 rows and 0.27 s in statements of 50 (a debug build).
+const HISTORY_CHUNK: usize = 50;
+
+/// History rows per write transaction: short enough that another writer waits at most some tens
+/// of milliseconds behind one.
+const HISTORY_BATCH: usize = 2_000;
 
 impl Store {
     /// Claims the oldest queued job for node `worker`, in one statement. On PostgreSQL the
@@ -86,27 +93,87 @@ impl Store {
         lease: Uuid,
         progress: Option<(&str, f64)>,
     ) -> Result<Option<bool>> {
+        // Two statements rather than one with NULLs for "no progress": sqlx's `Any` driver
+        // sends a NULL f64 to PostgreSQL as a float4, and a statement first prepared on a
+        // connection with it then takes the next beat's 8-byte float for a 4-byte one
+        // ("incorrect binary data format in bind parameter 3").
         let mut tx = self.write().await?;
-        let row: Option<(i64,)> = sqlx::query_as(
-            "UPDATE jobs SET heartbeat_at = $1, progress_json = COALESCE($2, progress_json), \
-             progress_fraction = COALESCE($3, progress_fraction) \
-             WHERE id = $4 AND lease = $5 AND status = 'running' RETURNING cancel_requested",
-        )
-        .bind(now_ms())
-        .bind(progress.map(|p| p.0))
-        .bind(progress.map(|p| p.1))
-        .bind(id.to_string())
-        .bind(lease.to_string())
-        .fetch_optional(&mut *tx)
-        .await?;
+        let row: Option<(i64,)> = match progress {
+            Some((json, fraction)) => {
+                sqlx::query_as(
+                    "UPDATE jobs SET heartbeat_at = $1, progress_json = $2, \
+                     progress_fraction = $3 \
+                     WHERE id = $4 AND lease = $5 AND status = 'running' RETURNING cancel_requested",
+                )
+                .bind(now_ms())
+                .bind(json)
+                .bind(fraction)
+                .bind(id.to_string())
+                .bind(lease.to_string())
+                .fetch_optional(&mut *tx)
+                .await?
+            }
+            None => {
+                sqlx::query_as(
+                    "UPDATE jobs SET heartbeat_at = $1 \
+                     WHERE id = $2 AND lease = $3 AND status = 'running' RETURNING cancel_requested",
+                )
+                .bind(now_ms())
+                .bind(id.to_string())
+                .bind(lease.to_string())
+                .fetch_optional(&mut *tx)
+                .await?
+            }
+        };
         tx.commit().await?;
         Ok(row.map(|(c,)| c != 0))
     }
 
-    /// Stores a successful run: history, summary, final particle state (when kept) and job
-    /// state together, and returns `Succeeded`. A cancel accepted while the job ran wins: then
-    /// nothing of the run is kept and the job is `Cancelled`. `None` when the lease was lost
-    /// (nothing is written).
+    /// Stores the history of a run under `lease`, replacing any an earlier attempt left, in
+    /// transactions of at most [`HISTORY_BATCH`] rows, so that no write waits long behind it
+    /// (100 000 rows in one transaction held SQLite's writer for half a minute). False when the
+    /// lease was lost: the rest is not written.
+    async fn save_history(&self, id: Uuid, lease: Uuid, history: &[HistoryRow]) -> Result<bool> {
+        let job = id.to_string();
+        let mut tx = self.write().await?;
+        if holds(&self.backend, &mut tx, id, lease).await?.is_none() {
+            return Ok(false);
+        }
+        sqlx::query("DELETE FROM history WHERE job_id = $1")
+            .bind(&job)
+            .execute(&mut *tx)
+            .await?;
+        tx.commit().await?;
+        let width = 2 + HistoryRow::COLUMNS.len();
+        for (batch_no, batch) in history.chunks(HISTORY_BATCH).enumerate() {
+            let mut tx = self.write().await?;
+            if holds(&self.backend, &mut tx, id, lease).await?.is_none() {
+                return Ok(false);
+            }
+            for (chunk_no, chunk) in batch.chunks(HISTORY_CHUNK).enumerate() {
+                let first = batch_no * HISTORY_BATCH + chunk_no * HISTORY_CHUNK;
+                let sql = history_insert(chunk.len(), width);
+                let mut q = sqlx::query(&sql);
+                for (i, row) in chunk.iter().enumerate() {
+                    q = q.bind(job.clone()).bind((first + i) as i64);
+                    for v in row.values() {
+                        q = q.bind(v);
+                    }
+                }
+                q.execute(&mut *tx).await?;
+            }
+            tx.commit().await?;
+        }
+        Ok(true)
+    }
+
+    /// Stores a successful run and returns `Succeeded`: the history first (in batches, see
+    /// [`Store::save_history`]), then summary, final particle state (when kept) and job state
+    /// together, in one transaction that also checks that everything the run promised is
+    /// stored: every history row, and every part of each of its `frames`. A run that left
+    /// something out is `Failed`, saying what is missing, never `Succeeded` short. A cancel
+    /// accepted while the job ran wins: then nothing of the run is kept and the job is
+    /// `Cancelled`. `None` when the lease was lost (nothing more is written).
     pub async fn finish_succeeded(
         &self,
         id: Uuid,
@@ -118,12 +185,17 @@ impl Store {
             summary,
             final_state,
             progress_json,
+            frames,
+            particles,
         } = result;
         let summary_json = serde_json::to_string(summary)
             .map_err(|e| super::StoreError::Corrupt(format!("summary: {e}")))?;
         // The queryable columns come from the typed summary: a renamed field fails to compile
         // here instead of storing zeros.
         let mode = summary.mode.kind();
+        if !self.save_history(id, lease, history).await? {
+            return Ok(None);
+        }
         let mut tx = self.write().await?;
         let Some(cancel_requested) = holds(&self.backend, &mut tx, id, lease).await? else {
             return Ok(None);
@@ -134,11 +206,16 @@ impl Store {
             return Ok(Some(Status::Cancelled));
         }
         let job = id.to_string();
+        if let Some(missing) = missing(&mut tx, &job, history.len(), frames, particles).await? {
+            let error = format!(
+                "the run finished but not all of its results could be stored ({missing}); \
+                 submit it again"
+            );
+            end_run(&mut tx, id, Status::Failed, Some(&error)).await?;
+            tx.commit().await?;
+            return Ok(Some(Status::Failed));
+        }
         // A retried job starts from nothing: no row of an earlier attempt survives.
-        sqlx::query("DELETE FROM history WHERE job_id = $1")
-            .bind(&job)
-            .execute(&mut *tx)
-            .await?;
         sqlx::query("DELETE FROM summaries WHERE job_id = $1")
             .bind(&job)
             .execute(&mut *tx)
@@ -155,20 +232,6 @@ impl Store {
                 .bind(data)
                 .execute(&mut *tx)
                 .await?;
-        }
-        let width = 2 + HistoryRow::COLUMNS.len();
-        for (chunk_no, chunk) in history.chunks(HISTORY_CHUNK).enumerate() {
-            let sql = history_insert(chunk.len(), width);
-            let mut q = sqlx::query(&sql);
-            for (i, row) in chunk.iter().enumerate() {
-                q = q
-                    .bind(job.clone())
-                    .bind((chunk_no * HISTORY_CHUNK + i) as i64);
-                for v in row.values() {
-                    q = q.bind(v);
-                }
-            }
-            q.execute(&mut *tx).await?;
         }
         sqlx::query(
             "INSERT INTO summaries (job_id, mean_load_n, peak_load_n, energy_absorbed_mj, \
@@ -268,43 +331,60 @@ impl Store {
         Ok(Some(status))
     }
 
-    /// Running jobs whose heartbeat is older than `stale_ms`: back to the queue, or failed
-    /// once `max_attempts` of their claims stored no checkpoint, or cancelled if that was
-    /// asked.
-    pub async fn reap_stale(&self, stale_ms: i64, max_attempts: u32) -> Result<Reaped> {
+    /// Running jobs whose heartbeat is older than `stale_ms`, but those in `alive` (the ones
+    /// the caller's own process is running: a beat the database refused while it was away
+    /// does not make them lost): back to the queue, or failed once `max_attempts` of their
+    /// claims stored no checkpoint, or cancelled if that was asked.
+    pub async fn reap_stale(
+        &self,
+        stale_ms: i64,
+        max_attempts: u32,
+        alive: &[Uuid],
+    ) -> Result<Reaped> {
         let now = now_ms();
         let cutoff = now - stale_ms;
+        // The ids are UUIDs this process made: quoted as they are, they cannot break the SQL.
+        let spared = if alive.is_empty() {
+            String::new()
+        } else {
+            let ids: Vec<String> = alive.iter().map(|id| format!("'{id}'")).collect();
+            format!(" AND id NOT IN ({})", ids.join(", "))
+        };
         let mut tx = self.write().await?;
         let ids = |rows: Vec<(String,)>| -> Result<Vec<Uuid>> {
             rows.iter().map(|(id,)| super::parse_uuid(id)).collect()
         };
-        let cancelled = sqlx::query_as(
+        let sql = format!(
             "UPDATE jobs SET status = 'cancelled', finished_at = $1, lease = NULL, \
              heartbeat_at = NULL, lost = lost + 1 \
-             WHERE status = 'running' AND heartbeat_at < $2 AND cancel_requested = 1 RETURNING id",
-        )
+             WHERE status = 'running' AND heartbeat_at < $2 AND cancel_requested = 1{spared} \
+             RETURNING id"
+        );
+        let cancelled = sqlx::query_as(&sql)
         .bind(now)
         .bind(cutoff)
         .fetch_all(&mut *tx)
         .await?;
-        let failed = sqlx::query_as(
+        let sql = format!(
             "UPDATE jobs SET status = 'failed', finished_at = $1, lease = NULL, heartbeat_at = NULL, \
              lost = lost + 1, error = 'started ' || attempts || ' times, ' || (attempts - advanced) \
              || ' of them without storing a checkpoint (the most allowed), and never finished: ' \
              || 'its worker stopped answering ' || (lost + 1) || ' of them' \
-             WHERE status = 'running' AND heartbeat_at < $2 AND attempts - advanced >= $3 \
-             RETURNING id",
-        )
+             WHERE status = 'running' AND heartbeat_at < $2 AND attempts - advanced >= $3{spared} \
+             RETURNING id"
+        );
+        let failed = sqlx::query_as(&sql)
         .bind(now)
         .bind(cutoff)
         .bind(max_attempts as i64)
         .fetch_all(&mut *tx)
         .await?;
-        let requeued = sqlx::query_as(
+        let sql = format!(
             "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, heartbeat_at = NULL, \
              lost = lost + 1, progress_json = NULL, progress_fraction = NULL \
-             WHERE status = 'running' AND heartbeat_at < $1 RETURNING id",
-        )
+             WHERE status = 'running' AND heartbeat_at < $1{spared} RETURNING id"
+        );
+        let requeued = sqlx::query_as(&sql)
         .bind(cutoff)
         .fetch_all(&mut *tx)
         .await?;
@@ -312,6 +392,10 @@ impl Store {
         for id in failed.iter().chain(&cancelled) {
             super::checkpoints::forget(&mut tx, &id.to_string()).await?;
             super::frames::forget(&mut tx, &id.to_string()).await?;
+            sqlx::query("DELETE FROM history WHERE job_id = $1")
+                .bind(id.to_string())
+                .execute(&mut *tx)
+                .await?;
         }
         tx.commit().await?;
         Ok(Reaped {
@@ -327,7 +411,7 @@ impl Store {
 /// can change it between this check and the write that follows.
 pub(super) async fn holds(
     backend: &super::Backend,
-    tx: &mut sqlx::Transaction<'static, Any>,
+    tx: &mut super::WriteTx,
     id: Uuid,
     lease: Uuid,
 ) -> Result<Option<bool>> {
@@ -346,13 +430,17 @@ pub(super) async fn holds(
 /// Ends a held run as `status` (failed or cancelled) with an optional reason; its checkpoint
 /// goes.
 async fn end_run(
-    tx: &mut sqlx::Transaction<'static, Any>,
+    tx: &mut super::WriteTx,
     id: Uuid,
     status: Status,
     error: Option<&str>,
 ) -> Result<()> {
     super::checkpoints::forget(tx, &id.to_string()).await?;
     super::frames::forget(tx, &id.to_string()).await?;
+    sqlx::query("DELETE FROM history WHERE job_id = $1")
+        .bind(id.to_string())
+        .execute(&mut **tx)
+        .await?;
     sqlx::query(
         "UPDATE jobs SET status = $1, error = $2, finished_at = $3, lease = NULL, \
          heartbeat_at = NULL WHERE id = $4",
@@ -364,6 +452,46 @@ async fn end_run(
     .execute(&mut **tx)
     .await?;
     Ok(())
+}
+
+/// What of a succeeded run is not stored: `None` when job `job` holds `rows` history rows
+/// numbered 0.., and all `frames` frames (0..frames) in full, each the parts `particles` take.
+async fn missing(
+    tx: &mut super::WriteTx,
+    job: &str,
+    rows: usize,
+    frames: u32,
+    particles: usize,
+) -> Result<Option<String>> {
+    let (count, span): (i64, i64) = sqlx::query_as(
+        "SELECT COUNT(*), COALESCE(MAX(row) + 1, 0) FROM history WHERE job_id = $1",
+    )
+    .bind(job)
+    .fetch_one(&mut **tx)
+    .await?;
+    if (count, span) != (rows as i64, rows as i64) {
+        return Ok(Some(format!("{count} of its {rows} history rows stored")));
+    }
+    if frames == 0 {
+        return Ok(None);
+    }
+    let parts = particles.div_ceil(super::PART_PARTICLES).max(1) as i64;
+    let stored: Vec<(i64, i64)> =
+        sqlx::query_as("SELECT k, COUNT(*) FROM frames WHERE job_id = $1 GROUP BY k ORDER BY k")
+            .bind(job)
+            .fetch_all(&mut **tx)
+            .await?;
+    let lost: Vec<String> = (0..frames as i64)
+        .filter(|k| !stored.iter().any(|&(s, n)| s == *k && n == parts))
+        .map(|k| k.to_string())
+        .collect();
+    Ok((!lost.is_empty()).then(|| {
+        format!(
+            "frame{} {} of its {frames} not stored",
+            if lost.len() == 1 { "" } else { "s" },
+            lost.join(", ")
+        )
+    }))
 }
 
 /// `INSERT INTO history … VALUES ($1, …), (…)` for `rows` rows of `width` values.
@@ -408,6 +536,132 @@ mod tests {
         }
     }
 
+    fn row(k: usize) -> HistoryRow {
+        HistoryRow {
+            time_ms: k as f64,
+            displacement_mm: 0.01 * k as f64,
+            ..HistoryRow::default()
+        }
+    }
+
+    /// What broke: a frame the database refused during an outage was dropped with a log line,
+    /// and the job still ended `succeeded` with one frame of its series missing.
+    #[tokio::test]
+    async fn a_run_whose_frame_was_not_stored_fails_saying_which_and_is_never_succeeded() {
+        use crate::export::series::{FrameTime, FRAME_BYTES_PER_PARTICLE};
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        for k in [0, 2, 3] {
+            let frame = crate::service::store::StoredFrame {
+                at: FrameTime {
+                    index: k,
+                    travel_mm: k as f64,
+                    time_ms: k as f64,
+                },
+                particles: 3,
+                data: vec![1; 3 * FRAME_BYTES_PER_PARTICLE],
+            };
+            assert!(store.save_frame(j.id, claim.lease, &frame).await.unwrap());
+        }
+        let summary = crate::service::store::sample_summary();
+        let history: Vec<HistoryRow> = (0..7).map(row).collect();
+        let result = Succeeded {
+            history: &history,
+            summary: &summary,
+            final_state: None,
+            progress_json: None,
+            frames: 4,
+            particles: 3,
+        };
+        let stored = store.finish_succeeded(j.id, claim.lease, result).await;
+        assert_eq!(stored.unwrap(), Some(Status::Failed));
+        let rec = store.job(j.id).await.unwrap().unwrap();
+        assert_eq!(rec.status, Status::Failed);
+        let error = rec.error.unwrap();
+        assert!(error.contains("frame 1 of its 4 not stored"), "{error}");
+        assert!(rec.summary.is_none());
+        assert!(store.history(j.id).await.unwrap().is_empty());
+        assert!(store.frame_times(j.id).await.unwrap().is_empty());
+        // With every frame stored it succeeds, history whole and in order.
+        let k = job();
+        store.submit(k.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        let result = Succeeded {
+            history: &history,
+            frames: 0,
+            ..result
+        };
+        let stored = store.finish_succeeded(k.id, claim.lease, result).await;
+        assert_eq!(stored.unwrap(), Some(Status::Succeeded));
+        let back = store.history(k.id).await.unwrap();
+        assert_eq!(back.len(), 7);
+        assert_eq!(back[6][0], 6.0);
+    }
+
+    /// What broke: one job's 100 000 history rows were written in one transaction that held
+    /// SQLite's writer for half a minute; health checks, submits and the reaper timed out.
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn storing_the_largest_history_never_holds_other_writers_back_for_long() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        let history: Vec<HistoryRow> = (0..100_000).map(row).collect();
+        let finishing = {
+            let store = store.clone();
+            tokio::spawn(async move {
+                let summary = crate::service::store::sample_summary();
+                let result = Succeeded {
+                    history: &history,
+                    summary: &summary,
+                    final_state: None,
+                    progress_json: None,
+                    frames: 0,
+                    particles: 0,
+                };
+                store.finish_succeeded(j.id, claim.lease, result).await
+            })
+        };
+        let mut slowest = std::time::Duration::ZERO;
+        let mut probes = 0;
+        while !finishing.is_finished() {
+            let started = std::time::Instant::now();
+            store.probe_write().await.unwrap();
+            slowest = slowest.max(started.elapsed());
+            probes += 1;
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+        assert_eq!(finishing.await.unwrap().unwrap(), Some(Status::Succeeded));
+        assert_eq!(store.history(j.id).await.unwrap().len(), 100_000);
+        // A batch of rows holds the writer for tens of milliseconds in a debug build; a second
+        // allows for a loaded machine and is still far below the 3 s health timeout.
+        assert!(probes > 1, "the history was stored before a probe could run");
+        assert!(
+            slowest < std::time::Duration::from_secs(1),
+            "a write waited {slowest:?} behind the history"
+        );
+    }
+
+    /// What broke: while the database was away the running job's heartbeats failed, and when it
+    /// came back the reaper of the very process running the job could requeue it first.
+    #[tokio::test]
+    async fn the_reaper_spares_the_jobs_its_own_process_runs() {
+        let (_dir, store) = store().await;
+        let j = job();
+        store.submit(j.clone(), 10).await.unwrap();
+        let claim = store.claim("a").await.unwrap().unwrap();
+        let reaped = store.reap_stale(-1000, 2, &[j.id]).await.unwrap();
+        assert_eq!(reaped, Reaped::default());
+        assert_eq!(
+            store.heartbeat(j.id, claim.lease, None).await.unwrap(),
+            Some(false)
+        );
+        let reaped = store.reap_stale(-1000, 2, &[Uuid::new_v4()]).await.unwrap();
+        assert_eq!(reaped.requeued, vec![j.id]);
+    }
+
     #[tokio::test]
     async fn a_lost_lease_writes_nothing_and_a_stale_job_is_requeued_then_failed() {
         let (_dir, store) = store().await;
@@ -417,7 +671,7 @@ mod tests {
         assert_eq!(first.attempt, 1);
         assert!(store.claim("a").await.unwrap().is_none());
         // Heartbeat older than "now": the reaper puts it back.
-        let reaped = store.reap_stale(-1000, 2).await.unwrap();
+        let reaped = store.reap_stale(-1000, 2, &[]).await.unwrap();
         assert_eq!(reaped.requeued, vec![j.id]);
         assert_eq!(
             store.heartbeat(j.id, first.lease, None).await.unwrap(),
@@ -430,7 +684,7 @@ mod tests {
         assert_eq!(stored, None, "the old lease must not write");
         let second = store.claim("b").await.unwrap().unwrap();
         assert_eq!(second.attempt, 2);
-        let reaped = store.reap_stale(-1000, 2).await.unwrap();
+        let reaped = store.reap_stale(-1000, 2, &[]).await.unwrap();
         assert_eq!(reaped.failed, vec![j.id]);
         let rec = store.job(j.id).await.unwrap().unwrap();
         assert_eq!(rec.status, Status::Failed);
@@ -462,7 +716,7 @@ mod tests {
         let first = store.claim("a").await.unwrap().unwrap();
         store.requeue(k.id, first.lease, 2).await.unwrap();
         store.claim("b").await.unwrap().unwrap();
-        let reaped = store.reap_stale(-1000, 2).await.unwrap();
+        let reaped = store.reap_stale(-1000, 2, &[]).await.unwrap();
         assert_eq!(reaped.failed, vec![k.id]);
     }
 
@@ -482,6 +736,8 @@ mod tests {
             summary: &summary,
             final_state: None,
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         let stored = store.finish_succeeded(j.id, claim.lease, result).await;
         assert_eq!(stored.unwrap(), Some(Status::Cancelled));
@@ -509,6 +765,8 @@ mod tests {
             summary: &summary,
             final_state: None,
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         let stored = store.finish_succeeded(j.id, claim.lease, result).await;
         assert_eq!(stored.unwrap(), Some(Status::Succeeded));
@@ -559,6 +817,8 @@ mod tests {
             summary: &summary,
             final_state: None,
             progress_json: None,
+            frames: 0,
+            particles: 0,
         };
         store
             .finish_succeeded(j.id, claim.lease, result)

@@ -102,6 +102,18 @@ pub struct Rung {
     pub wall_time_s: f64,
 }
 
+impl Rung {
+    /// The rung at `n` of a run that ended with `summary`.
+    pub fn of(n: u32, summary: &Summary) -> Rung {
+        Rung {
+            n,
+            mean_load_n: summary.mean_load_n,
+            first_peak_load_n: summary.measures.first_peak_load_n,
+            wall_time_s: summary.cost.wall_time_s,
+        }
+    }
+}
+
 /// One quantity read off the ladder: its estimate and interval, N.
 struct Reading {
     estimate: f64,

@@ -22,6 +22,20 @@ pub struct Progress {
     pub elapsed_s: f64,
     /// Wall time still expected at the current pace, s.
     pub eta_s: f64,
+    /// While the run's error bar is priced after it (the run itself done, `fraction` 1): which
+    /// rung of its ladder runs and how far that rung is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_bar: Option<RungProgress>,
+}
+
+/// How far the pricing of a run's error bar is: rung `rung` of `rungs` (from 1), at `n`
+/// particles through the wall, `fraction` (0..1) of its crush done.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, JsonSchema)]
+pub struct RungProgress {
+    pub rung: u32,
+    pub rungs: u32,
+    pub n: u32,
+    pub fraction: f64,
 }
 
 /// Every particle's state at one frame of a time series (`output.frames`), in the case's
@@ -59,6 +73,13 @@ pub trait Observer {
     /// Asked when the run sees its cancel flag: whether to hand over a checkpoint before it
     /// stops (a shutdown that will resume the run elsewhere, not a client's cancel).
     fn checkpoint_on_stop(&mut self) -> bool {
+        false
+    }
+    /// Asked once the run has reached the end of its crush, before it is analysed: whether to
+    /// hand over a checkpoint of the finished run (the worker keeps one while it prices the
+    /// run's error bar, so that an interruption then does not run the crush again). Not asked
+    /// of a run resumed from such a checkpoint, which took no step.
+    fn checkpoint_at_end(&mut self) -> bool {
         false
     }
     /// A checkpoint of the run at the current step boundary.

@@ -144,6 +144,7 @@ impl Driver for Run<'_> {
         let before_s = tally.elapsed_s;
         let elapsed = |start: Instant| before_s + start.elapsed().as_secs_f64();
         let resumed_at = resumed.then(|| sim.time());
+        let rows_at_start = tally.rows.len();
         let mut frames = Schedule::new(case, ramp, duration, resumed_at);
         frames.send_due(case, &sim, observer);
         for k in tally.rows.len() + 1..=points {
@@ -204,11 +205,16 @@ impl Driver for Run<'_> {
                 fraction,
                 elapsed_s: elapsed,
                 eta_s: elapsed * (1.0 - fraction) / fraction,
+                error_bar: None,
             });
             tally.rows.push(row);
             tally.row_start_ms = sim.time();
             tally.impulse = [0.0; 2];
             tally.kinetic = 0.0;
+        }
+        if (!resumed || tally.rows.len() > rows_at_start) && observer.checkpoint_at_end() {
+            tally.elapsed_s = elapsed(start);
+            observer.on_checkpoint(Checkpoint::write(case, &sim, &tally, points));
         }
         let p = &sim.scene().particles;
         let geometry = case.geometry();
