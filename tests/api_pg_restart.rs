@@ -197,3 +197,71 @@ async fn a_postgres_restart_under_load_loses_nothing_and_stores_nothing_twice() 
         app.server.unwrap().stop().await.unwrap();
     }
 }
+
+/// What broke: a PostgreSQL outage during a run lost the frame the worker was storing (one
+/// ERROR line in the log), and the job still ended `succeeded` with `frames/1.vtu` 404 and its
+/// series short. A sweep with frames now runs through three outages: each write is retried until
+/// the database is back, and every job ends `succeeded` with all it promised (or, had a write
+/// been refused for good, not `succeeded`, saying why).
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn a_sweep_with_frames_through_database_outages_ends_every_job_whole() {
+    let _turn = SERVER.lock().await;
+    let db = fresh_postgres_database();
+    let flags = [
+        "--node-name",
+        "alone",
+        "--heartbeat-ms",
+        "200",
+        "--stale-after-s",
+        "2",
+        "--checkpoint-every-s",
+        "0.5",
+        "--concurrent-jobs",
+        "2",
+    ];
+    let app = TestApp::start_on(&db, &flags).await;
+    let mut base = killable_case();
+    base["output"]["frames"] = serde_json::json!(4);
+    let body = serde_json::json!({
+        "label": "outages",
+        "base": base,
+        "parameters": {"loading.plate_speed_m_s": [10, 12, 14]}
+    });
+    let (_, sweep) = app.create_sweep(&body).await;
+    let ids: Vec<String> = sweep["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["job_id"].as_str().unwrap().to_string())
+        .collect();
+    let started = Instant::now();
+    while app.job(&ids[0]).await["progress"].is_null() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no progress");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let outages = tokio::task::spawn_blocking(|| {
+        for _ in 0..3 {
+            control("stop -m fast -w");
+            std::thread::sleep(Duration::from_secs(3));
+            control("start -w");
+            std::thread::sleep(Duration::from_millis(1500));
+        }
+    });
+    outages.await.unwrap();
+    for id in &ids {
+        let job = app
+            .wait_for(
+                id,
+                &["succeeded", "failed", "cancelled"],
+                Duration::from_secs(180),
+            )
+            .await;
+        assert_eq!(job["status"], "succeeded", "{job}");
+        whole_or_not_succeeded(&app.client, &app.url, id, 500, 4).await;
+    }
+    app.server.unwrap().stop().await.unwrap();
+}

@@ -193,8 +193,12 @@ async fn write_each(
                 let save = || store.save_ladder(job.id, job.lease, job.attempt, &json);
                 match retry::until_stored("a rung of the error bar", job.id, patience, save).await {
                     Ok(true) => tracing::info!(job = %job.id, "rung of the error bar stored"),
-                    Ok(false) => tracing::warn!(job = %job.id, "rung of the error bar not stored: lease lost or no checkpoint"),
-                    Err(e) => tracing::error!(job = %job.id, error = %e, "storing a rung of the error bar failed"),
+                    Ok(false) => {
+                        tracing::warn!(job = %job.id, "rung of the error bar not stored: lease lost or no checkpoint")
+                    }
+                    Err(e) => {
+                        tracing::error!(job = %job.id, error = %e, "storing a rung of the error bar failed")
+                    }
                 }
                 continue;
             }

@@ -130,11 +130,18 @@ mod tests {
         })
         .await;
         assert!(matches!(bad, Err(StoreError::Corrupt(_))));
-        assert_eq!(tries.load(Ordering::SeqCst), 1, "no retry of what cannot heal");
+        assert_eq!(
+            tries.load(Ordering::SeqCst),
+            1,
+            "no retry of what cannot heal"
+        );
         let started = Instant::now();
-        let away = until_stored("a frame", Uuid::nil(), Duration::from_millis(300), || async {
-            Err::<(), _>(unavailable())
-        })
+        let away = until_stored(
+            "a frame",
+            Uuid::nil(),
+            Duration::from_millis(300),
+            || async { Err::<(), _>(unavailable()) },
+        )
         .await;
         assert!(away.unwrap_err().is_unavailable());
         assert!(started.elapsed() < Duration::from_secs(5));

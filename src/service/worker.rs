@@ -11,11 +11,11 @@ use super::views;
 use crate::export;
 use crate::solver::analysis::error_bar::Rung;
 use crate::solver::{Case, Checkpoint, Limits, Progress, Resume, RunOutput, Runner, SolveError};
+use futures::future::OptionFuture;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use futures::future::OptionFuture;
 use tokio::sync::{oneshot, watch, Notify};
 use uuid::Uuid;
 
@@ -321,6 +321,12 @@ impl Workers {
             Some(_) => self.read_ladder(job).await,
             None => Vec::new(),
         };
+        // A resumed run reports where it stands until its next row (or, resumed at its end,
+        // while its error bar is priced).
+        let points = case.spec().output.history_points as usize;
+        if let Some((_, _, from)) = &from {
+            *running.latest.lock().unwrap_or_else(|e| e.into_inner()) = from.progress(points);
+        }
         let patience = self.config.store_patience;
         let trouble = Trouble::new(running.cancel.clone());
         let mut publisher = self.hub.publisher(id, job.attempt);

@@ -157,7 +157,8 @@ impl Runner {
                                             fraction: 0.0,
                                         },
                                     };
-                                    let summary = self.run(&twin, &mut rung_observer, cancel)?.summary;
+                                    let summary =
+                                        self.run(&twin, &mut rung_observer, cancel)?.summary;
                                     let rung = error_bar::Rung::of(n, &summary);
                                     ladder.on_rung(index, &rung);
                                     rung

@@ -442,3 +442,41 @@ async fn a_node_killed_at_80_percent_hands_its_job_to_another_that_resumes_it_wi
     .await;
     assert_eq!(csv(id).await, csv(whole).await);
 }
+
+/// What broke: sqlx's `Any` driver sends a NULL f64 to PostgreSQL as a float4, so a heartbeat
+/// without progress prepared the statement with a 4-byte parameter on its connection, and the
+/// next beat with progress on that connection failed with "incorrect binary data format in bind
+/// parameter 3" (one beat in three on a node; gaps near the stale limit).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+#[cfg_attr(
+    not(crush_postgres),
+    ignore = "needs CRUSH_TEST_POSTGRES (eval \"$(bash .ci/postgres)\")"
+)]
+async fn heartbeats_with_and_without_progress_share_a_pooled_connection() {
+    use crush::service::store::{NewJob, Store};
+    let store = Store::open(&fresh_postgres_database()).await.unwrap();
+    let id = uuid::Uuid::new_v4();
+    let job = NewJob {
+        id,
+        case_json: "{}".into(),
+        label: None,
+        particles: 10,
+        idempotency_key: None,
+    };
+    store.submit(job, 10).await.unwrap();
+    let claim = store.claim("n1").await.unwrap().unwrap();
+    // One after another, so that the pool hands every beat the same connection.
+    for k in 0..12 {
+        let json = format!("{{\"step\":{k}}}");
+        let progress = (k % 3 != 0).then(|| (json.as_str(), k as f64 / 12.0));
+        let beat = store.heartbeat(id, claim.lease, progress).await;
+        assert_eq!(
+            beat.unwrap(),
+            Some(false),
+            "beat {k}, progress {progress:?}"
+        );
+    }
+    let stored = store.job(id).await.unwrap().unwrap();
+    assert_eq!(stored.progress_json.as_deref(), Some("{\"step\":11}"));
+    store.close().await;
+}

@@ -328,3 +328,118 @@ async fn a_damaged_checkpoint_is_discarded_with_a_log_line_and_the_run_starts_ov
     let history = history_csv(&client, &server.url, &id).await;
     assert_eq!(history, uninterrupted(&client, &server.url, &case).await);
 }
+
+/// A case whose run takes a moment and whose error bar (its section at n = 8, 12 and 16) takes
+/// seconds: a server stopped while it prices the error bar is stopped between or inside rungs.
+fn error_bar_case() -> serde_json::Value {
+    serde_json::json!({
+        "tube": {"length_mm": 30},
+        "discretization": {"model": "axisymmetric", "particles_through_thickness": 2},
+        "loading": {"crush_distance_mm": 8, "plate_speed_m_s": 20},
+        "output": {"history_points": 100, "error_bar": true}
+    })
+}
+
+/// Polls the job until its progress shows rung `rung` of its error bar's ladder running.
+async fn wait_for_rung(client: &reqwest::Client, base: &str, id: &str, rung: u64) {
+    let deadline = std::time::Instant::now() + Duration::from_secs(120);
+    loop {
+        let job = get_json(client, &format!("{base}/v1/jobs/{id}")).await;
+        let status = job["status"].as_str().unwrap_or("");
+        assert!(
+            ["queued", "running"].contains(&status),
+            "the job ended first: {job}"
+        );
+        if job["progress"]["error_bar"]["rung"].as_u64() >= Some(rung) {
+            assert_eq!(job["progress"]["fraction"], 1.0, "{job}");
+            return;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no rung {rung}: {job}"
+        );
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+/// The error bar without its wall times (a rung run again, or kept, takes its own time).
+fn bar_physics(job: &serde_json::Value) -> serde_json::Value {
+    fn strip(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(o) => {
+                o.retain(|k, _| !k.contains("wall_time") && !k.contains("cost"));
+                o.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    let mut bar = job["summary"]["error_bar"].clone();
+    strip(&mut bar);
+    bar
+}
+
+/// What broke: the error bar's phase was never checkpointed, so a SIGTERM during it stored
+/// nothing and the job started over from step 0, and kills during it used up the job's attempts
+/// although its run had finished. Now the finished run and each finished rung are kept: with
+/// one fruitless claim allowed, a SIGTERM and a SIGKILL during the ladder still finish the job,
+/// each later claim resuming with the next rung, and the error bar is the uninterrupted one's.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn stops_while_the_error_bar_is_priced_resume_with_the_next_rung_not_the_crush() {
+    let (_dir, db) = temp_db();
+    let client = client();
+    let flags = [
+        &RESUMING[..],
+        &["--max-attempts", "1", "--shutdown-grace-s", "0.1"],
+    ]
+    .concat();
+    let mut first = Child::start(&db, &flags);
+    let id = submit_to(&client, &first.url, &error_bar_case()).await;
+    wait_for_rung(&client, &first.url, &id, 2).await;
+    // SAFETY: sending a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(first.pid(), libc::SIGTERM) }, 0);
+    first
+        .exited_within(Duration::from_secs(15))
+        .expect("the server exits on SIGTERM");
+
+    let mut second = Child::logged(&db, &flags, "info");
+    wait_for_rung(&client, &second.url, &id, 3).await;
+    assert!(second.logged_line("resuming the error bar's ladder"));
+    second.process.kill().unwrap(); // SIGKILL
+    second.process.wait().unwrap();
+
+    let third = Child::logged(&db, &flags, "info");
+    let job = wait_for(
+        &client,
+        &third.url,
+        &id,
+        &["succeeded", "failed"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(job["attempts"], 3, "{job}");
+    let resumed = third
+        .log
+        .lock()
+        .unwrap()
+        .iter()
+        .any(|l| l.contains("resuming the error bar's ladder") && l.contains("rungs=2"));
+    assert!(resumed, "the third claim ran only the last rung");
+    assert!(job["summary"]["error_bar"]["rungs"].is_array(), "{job}");
+    let whole = submit_to(&client, &third.url, &error_bar_case()).await;
+    let whole = wait_for(
+        &client,
+        &third.url,
+        &whole,
+        &["succeeded"],
+        Duration::from_secs(120),
+    )
+    .await;
+    assert_eq!(bar_physics(&job), bar_physics(&whole));
+    assert_eq!(physics(&job)["mean_load_n"], physics(&whole)["mean_load_n"]);
+    assert_eq!(
+        history_csv(&client, &third.url, &id).await,
+        history_csv(&client, &third.url, whole["id"].as_str().unwrap()).await
+    );
+}

@@ -342,3 +342,76 @@ async fn a_database_file_deleted_while_serving_is_noticed_logged_and_answered_wi
         "the log names the file:\n{text}"
     );
 }
+
+/// What broke: a frame the database refused (here SQLite's write lock, held by another process
+/// past the server's 10 s busy timeout) was dropped with a log line, and its job still ended
+/// `succeeded` with `frames/k.vtu` missing. The write is retried until the lock is free.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_write_lock_held_past_the_busy_timeout_mid_run_loses_no_frame() {
+    use sqlx::{Connection, Executor};
+    let dir = tempfile::tempdir().unwrap();
+    let db = sqlite_url(dir.path());
+    let app = TestApp::start_on(&db, &["--heartbeat-ms", "200"]).await;
+    let mut case = killable_case();
+    case["output"]["frames"] = serde_json::json!(4);
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    let started = Instant::now();
+    while app.job(&id).await["progress"].is_null() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no progress");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let mut other = sqlx::SqliteConnection::connect(&db).await.unwrap();
+    other.execute("BEGIN IMMEDIATE").await.unwrap();
+    tokio::time::sleep(Duration::from_secs(12)).await;
+    other.execute("COMMIT").await.unwrap();
+    other.close().await.unwrap();
+    let job = app
+        .wait_for(&id, &["succeeded", "failed"], Duration::from_secs(120))
+        .await;
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let status = whole_or_not_succeeded(&app.client, &app.url, &id, 500, 4).await;
+    assert_eq!(status, "succeeded");
+}
+
+/// What broke: a 26-particle job keeping the most history points allowed (100 000) held
+/// SQLite's writer for seconds at a time while it stored them: `/healthz` answered 503 and
+/// submits went unanswered for 10 s. The API now answers throughout.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_largest_history_a_job_may_keep_leaves_the_api_answering() {
+    let app = TestApp::start(&[]).await;
+    let case = serde_json::json!({
+        "tube": {"length_mm": 20},
+        "loading": {"crush_distance_mm": 5},
+        "discretization": {"model": "axisymmetric", "particles_through_thickness": 2},
+        "output": {"history_points": 100_000}
+    });
+    let id = app.submit(&case).await["id"].as_str().unwrap().to_string();
+    let (mut polls, mut slowest) = (0, Duration::ZERO);
+    let started = Instant::now();
+    loop {
+        let asked = Instant::now();
+        let health = app.get("/healthz").await;
+        let r = submit(&app.client, &app.url, &tiny_case()).await;
+        slowest = slowest.max(asked.elapsed());
+        assert_eq!(health.status(), 200, "{}", health.text().await.unwrap());
+        assert_eq!(r.status(), 202, "{}", r.text().await.unwrap());
+        polls += 1;
+        if status_of(&app, &id).await.as_deref() == Some("succeeded") {
+            break;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "the job did not end"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let history = get_json(&app.client, &app.at(&format!("/v1/jobs/{id}/history"))).await;
+    assert_eq!(history["rows"].as_array().unwrap().len(), 100_000);
+    // A health check and a submit wait behind one batch of history rows at most: well under
+    // the health check's own 3 s limit.
+    eprintln!("{polls} polls while the job ran, the slowest {slowest:?}");
+    assert!(
+        slowest < Duration::from_secs(2),
+        "the API waited {slowest:?}"
+    );
+}

@@ -465,3 +465,44 @@ pub async fn submit_to(client: &reqwest::Client, base: &str, case: &Value) -> St
         .unwrap()
         .to_string()
 }
+
+/// Checks that job `id` on `base` either did not succeed, or succeeded with everything it
+/// promised readable: `rows` history rows, its summary, and each of its `frames` frames with
+/// the series that lists them. Returns its status.
+pub async fn whole_or_not_succeeded(
+    client: &reqwest::Client,
+    base: &str,
+    id: &str,
+    rows: usize,
+    frames: u32,
+) -> String {
+    let job = get_json(client, &format!("{base}/v1/jobs/{id}")).await;
+    let status = job["status"].as_str().unwrap().to_string();
+    if status != "succeeded" {
+        assert!(
+            job["error"].is_string() || status == "cancelled",
+            "a job that did not succeed says why: {job}"
+        );
+        return status;
+    }
+    assert!(job["summary"].is_object(), "{job}");
+    let history = get_json(client, &format!("{base}/v1/jobs/{id}/history")).await;
+    assert_eq!(history["rows"].as_array().unwrap().len(), rows, "job {id}");
+    let pvd = client
+        .get(format!("{base}/v1/jobs/{id}/series.pvd"))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(pvd.status(), 200, "job {id}: series.pvd");
+    let pvd = pvd.text().await.unwrap();
+    for k in 0..frames {
+        assert!(pvd.contains(&format!("frames/{k}.vtu")), "job {id}: {pvd}");
+        let r = client
+            .get(format!("{base}/v1/jobs/{id}/frames/{k}.vtu"))
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(r.status(), 200, "job {id}: frame {k}");
+    }
+    status
+}

@@ -300,7 +300,10 @@ mod tests {
             .await
             .unwrap());
         assert_eq!(store.ladder(j.id).await.unwrap().as_deref(), Some("[1]"));
-        assert_eq!(store.requeue(j.id, first.lease, 1).await.unwrap(), Some(Status::Queued));
+        assert_eq!(
+            store.requeue(j.id, first.lease, 1).await.unwrap(),
+            Some(Status::Queued)
+        );
         // The next claim finishes a rung and nothing else: it moved the job on, so with one
         // fruitless claim allowed the job is requeued again, not failed.
         let second = store.claim("a").await.unwrap().unwrap();
@@ -308,7 +311,10 @@ mod tests {
             .save_ladder(j.id, second.lease, 2, "[1,2]")
             .await
             .unwrap());
-        assert_eq!(store.requeue(j.id, second.lease, 1).await.unwrap(), Some(Status::Queued));
+        assert_eq!(
+            store.requeue(j.id, second.lease, 1).await.unwrap(),
+            Some(Status::Queued)
+        );
         assert_eq!(store.ladder(j.id).await.unwrap().as_deref(), Some("[1,2]"));
         // A new checkpoint of the run (another run's state) clears the rungs it had.
         let third = store.claim("a").await.unwrap().unwrap();

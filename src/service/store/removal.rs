@@ -152,11 +152,7 @@ impl Store {
 
 /// Deletes the jobs `condition` (with one parameter, `key`) selects; their summaries,
 /// histories, final states and checkpoints go with them.
-async fn delete_jobs(
-    tx: &mut super::WriteTx,
-    condition: &str,
-    key: &str,
-) -> Result<u64> {
+async fn delete_jobs(tx: &mut super::WriteTx, condition: &str, key: &str) -> Result<u64> {
     let done = sqlx::query(&format!("DELETE FROM jobs WHERE {condition}"))
         .bind(key)
         .execute(&mut **tx)

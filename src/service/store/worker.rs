@@ -361,10 +361,10 @@ impl Store {
              RETURNING id"
         );
         let cancelled = sqlx::query_as(&sql)
-        .bind(now)
-        .bind(cutoff)
-        .fetch_all(&mut *tx)
-        .await?;
+            .bind(now)
+            .bind(cutoff)
+            .fetch_all(&mut *tx)
+            .await?;
         let sql = format!(
             "UPDATE jobs SET status = 'failed', finished_at = $1, lease = NULL, heartbeat_at = NULL, \
              lost = lost + 1, error = 'started ' || attempts || ' times, ' || (attempts - advanced) \
@@ -374,20 +374,20 @@ impl Store {
              RETURNING id"
         );
         let failed = sqlx::query_as(&sql)
-        .bind(now)
-        .bind(cutoff)
-        .bind(max_attempts as i64)
-        .fetch_all(&mut *tx)
-        .await?;
+            .bind(now)
+            .bind(cutoff)
+            .bind(max_attempts as i64)
+            .fetch_all(&mut *tx)
+            .await?;
         let sql = format!(
             "UPDATE jobs SET status = 'queued', lease = NULL, worker = NULL, heartbeat_at = NULL, \
              lost = lost + 1, progress_json = NULL, progress_fraction = NULL \
              WHERE status = 'running' AND heartbeat_at < $1{spared} RETURNING id"
         );
         let requeued = sqlx::query_as(&sql)
-        .bind(cutoff)
-        .fetch_all(&mut *tx)
-        .await?;
+            .bind(cutoff)
+            .fetch_all(&mut *tx)
+            .await?;
         let (failed, cancelled) = (ids(failed)?, ids(cancelled)?);
         for id in failed.iter().chain(&cancelled) {
             super::checkpoints::forget(&mut tx, &id.to_string()).await?;
@@ -463,12 +463,11 @@ async fn missing(
     frames: u32,
     particles: usize,
 ) -> Result<Option<String>> {
-    let (count, span): (i64, i64) = sqlx::query_as(
-        "SELECT COUNT(*), COALESCE(MAX(row) + 1, 0) FROM history WHERE job_id = $1",
-    )
-    .bind(job)
-    .fetch_one(&mut **tx)
-    .await?;
+    let (count, span): (i64, i64) =
+        sqlx::query_as("SELECT COUNT(*), COALESCE(MAX(row) + 1, 0) FROM history WHERE job_id = $1")
+            .bind(job)
+            .fetch_one(&mut **tx)
+            .await?;
     if (count, span) != (rows as i64, rows as i64) {
         return Ok(Some(format!("{count} of its {rows} history rows stored")));
     }
@@ -637,7 +636,10 @@ mod tests {
         assert_eq!(store.history(j.id).await.unwrap().len(), 100_000);
         // A batch of rows holds the writer for tens of milliseconds in a debug build; a second
         // allows for a loaded machine and is still far below the 3 s health timeout.
-        assert!(probes > 1, "the history was stored before a probe could run");
+        assert!(
+            probes > 1,
+            "the history was stored before a probe could run"
+        );
         assert!(
             slowest < std::time::Duration::from_secs(1),
             "a write waited {slowest:?} behind the history"

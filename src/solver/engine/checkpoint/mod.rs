@@ -174,6 +174,22 @@ impl Checkpoint {
 }
 
 impl Resume {
+    /// Where the run stood when the checkpoint was written, as the progress report of its last
+    /// finished history row (`points` rows in the whole run); `None` before the first row.
+    pub fn progress(&self, points: usize) -> Option<crate::solver::engine::observer::Progress> {
+        let row = self.tally.rows.last()?;
+        Some(crate::solver::engine::observer::Progress {
+            step: self.steps,
+            time_ms: row.time_ms,
+            displacement_mm: row.displacement_mm,
+            load_n: row.load_top_n,
+            fraction: self.tally.rows.len() as f64 / points.max(1) as f64,
+            elapsed_s: self.tally.elapsed_s,
+            eta_s: 0.0,
+            error_bar: None,
+        })
+    }
+
     /// Decodes `bytes` and checks them against `case`: the same physics, a particle count the
     /// case gives, rows no more than it asks for.
     pub fn read(case: &Case, bytes: &[u8]) -> Result<Resume, CheckpointError> {
