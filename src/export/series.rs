@@ -181,6 +181,19 @@ pub fn frame_file(index: u32) -> String {
     format!("frames/{index}.vtu")
 }
 
+/// The index of a frame file's name as [`frame_file`] writes it (`{k}.vtu`, k in plain
+/// decimal); none for any other spelling of a number (`+1.vtu`, `01.vtu`), so that each frame
+/// has one name.
+pub fn frame_index(name: &str) -> Option<u32> {
+    let k = name.strip_suffix(".vtu")?;
+    let canonical = k.bytes().all(|b| b.is_ascii_digit()) && (k == "0" || !k.starts_with('0'));
+    if canonical {
+        k.parse().ok()
+    } else {
+        None
+    }
+}
+
 /// The note a frame's `.vtu` carries: where it stands, then `symmetry` (what a reduced model's
 /// points stand for), if any.
 pub fn frame_note(at: &FrameTime, count: u32, symmetry: Option<&str>) -> String {

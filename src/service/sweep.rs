@@ -11,7 +11,9 @@
 //! the base with its values set, and the check stops after [`MAX_ERRORS`] errors.
 
 use crate::solver::model::case::{field_paths, spec_from_value};
-use crate::solver::model::input::{clip, clip_quoted, object_from_str, set_field, JsonError};
+use crate::solver::model::input::{
+    clip, clip_quoted, object, object_from_str, set_field, JsonError,
+};
 use crate::solver::model::spec::whole;
 use crate::solver::{Case, CaseError, FieldError, Limits};
 use crate::study::ensemble::SEED_FIELD;
@@ -45,9 +47,9 @@ pub struct SweepRequest {
     #[serde(default)]
     #[schemars(schema_with = "parameters_schema")]
     pub parameters: Map<String, Value>,
-    /// Run every combination over this many trigger seeds, from the base's `trigger.seed` on:
-    /// `trigger.seed` becomes the last (fastest) parameter, and the sweep's view reads the
-    /// runs as a distribution.
+    /// Run every combination over this many trigger seeds, from the base's `trigger.seed` on
+    /// (past 18446744073709551615 the seeds go on from 0): `trigger.seed` becomes the last
+    /// (fastest) parameter, and the sweep's view reads the runs as a distribution.
     #[serde(default, deserialize_with = "present")]
     #[schemars(with = "EnsembleRequest")]
     pub ensemble: Option<EnsembleRequest>,
@@ -76,9 +78,10 @@ fn parameters_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
     })
 }
 
-/// An optional object that, when given, must be one: `null` is a wrong type, not "absent".
+/// An optional object that, when given, must be one: `null` is a wrong type, not "absent",
+/// and an array is not read by position.
 fn present<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Option<EnsembleRequest>, D::Error> {
-    EnsembleRequest::deserialize(de).map(Some)
+    object::<_, EnsembleRequest>(de).map(Some)
 }
 
 /// The fewest seeds an ensemble takes: one seed is a single run.
@@ -167,7 +170,10 @@ pub fn plan(text: &str, limits: &Limits, max_jobs: usize) -> Result<Plan, Refusa
                 the same run",
             )]));
         }
-        let seeds = (0..e.seeds).map(|k| Value::from(trigger.seed.saturating_add(k)));
+        // Seeds only name a random draw, so one past the largest is 0: an ensemble from any
+        // base seed gets as many distinct seeds as it asks for (at most `max_jobs`), where
+        // refusing the base seed would turn away a valid case.
+        let seeds = (0..e.seeds).map(|k| Value::from(trigger.seed.wrapping_add(k)));
         params.push((SEED_FIELD.to_string(), seeds.collect()));
     }
     let mut base = req.base.clone();
@@ -321,16 +327,20 @@ pub fn parameters(
             None => errors.push(fail(&name, "must be a non-empty list of values")),
         }
     }
-    let count = out
-        .iter()
-        .fold(seeds.clamp(1, usize::MAX as u64) as usize, |n, (_, v)| {
-            n.saturating_mul(v.len())
-        });
-    if count > max_jobs {
-        errors.push(fail(
+    // The true count when it fits in a u128; past that only "more than the limit" is known.
+    let count = out.iter().try_fold(u128::from(seeds.max(1)), |n, (_, v)| {
+        n.checked_mul(v.len() as u128)
+    });
+    match count {
+        Some(count) if count <= max_jobs as u128 => {}
+        Some(count) => errors.push(fail(
             "parameters",
             &format!("gives {count} combinations, more than this server's limit of {max_jobs}"),
-        ));
+        )),
+        None => errors.push(fail(
+            "parameters",
+            &format!("gives more than {max_jobs} combinations, this server's limit"),
+        )),
     }
     if errors.is_empty() {
         Ok(out)
@@ -636,5 +646,73 @@ mod tests {
             plan(&unknown.to_string(), &Limits::default(), 100),
             Err(Refusal::Malformed(_))
         ));
+    }
+
+    #[test]
+    fn an_ensemble_from_the_largest_seed_gives_distinct_seeds() {
+        let body = json!({
+            "base": {"trigger": {"weak_fraction": 0.003, "seed": u64::MAX}},
+            "ensemble": {"seeds": 3}
+        });
+        let p = plan(&body.to_string(), &Limits::default(), 100).unwrap();
+        let seeds: Vec<u64> = p
+            .jobs
+            .iter()
+            .map(|j| j.case["trigger"]["seed"].as_u64().unwrap())
+            .collect();
+        assert_eq!(seeds, [u64::MAX, 0, 1]);
+    }
+
+    #[test]
+    fn an_ensemble_given_as_an_array_is_refused_naming_ensemble() {
+        for ensemble in [json!([2]), json!([]), json!(2)] {
+            let text = json!({"base": {"trigger": {"weak_fraction": 0.003}}, "ensemble": ensemble});
+            let e = read(&text.to_string()).unwrap_err();
+            assert_eq!(e.field.as_deref(), Some("ensemble"), "{ensemble}");
+            assert!(e.message.contains("expected an object"), "{e:?}");
+        }
+    }
+
+    #[test]
+    fn an_oversized_sweep_gives_its_true_count_or_more_than_the_limit_never_a_saturated_one() {
+        let triggered = json!({"trigger": {"weak_fraction": 0.003}});
+        // u64::MAX seeds × 2 lengths: past u64, within u128.
+        let body = json!({"base": triggered, "ensemble": {"seeds": u64::MAX},
+                          "parameters": {"tube.length_mm": [40, 50]}});
+        let errors = refusal(body, 100);
+        let count = errors.iter().find(|e| e.field == "parameters").unwrap();
+        assert!(
+            count
+                .reason
+                .contains("gives 36893488147419103230 combinations"),
+            "{count:?}"
+        );
+        // Past u128: 2^64 seeds × (2^16)^5 values.
+        let values: Vec<u32> = (0..1 << 16).collect();
+        let parameters: Map<String, Value> = [
+            "tube.length_mm",
+            "tube.thickness_mm",
+            "tube.mean_diameter_mm",
+            "loading.plate_speed_m_s",
+            "loading.crush_distance_mm",
+        ]
+        .iter()
+        .map(|f| (f.to_string(), json!(values)))
+        .collect();
+        let body = json!({"base": triggered, "ensemble": {"seeds": u64::MAX},
+                          "parameters": parameters});
+        let errors = refusal(body, 100);
+        let count = errors.iter().find(|e| e.field == "parameters").unwrap();
+        assert!(
+            count.reason.contains("more than 100 combinations"),
+            "{count:?}"
+        );
+        assert!(
+            errors
+                .iter()
+                .all(|e| !e.reason.contains(&u64::MAX.to_string())
+                    && !e.reason.contains(&u128::MAX.to_string())),
+            "{errors:?}"
+        );
     }
 }

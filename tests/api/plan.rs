@@ -160,3 +160,57 @@ async fn bad_plan_requests_are_refused_naming_each_field() {
         assert_eq!(r.status(), 400, "{body}");
     }
 }
+
+/// `"case": []` was read as the default case (serde reads a struct from an array by position)
+/// and planned: a case that is not an object is 400 naming `case`, as a sweep's base is.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_plan_whose_case_is_an_array_is_400_naming_case() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    for case in [json!([]), json!([{}]), json!(null), json!("x")] {
+        let r = app
+            .post_json("/v1/plan", &json!({"case": case, "budget_s": 60}))
+            .await;
+        assert_eq!(r.status(), 400, "{case}");
+        let p: Value = r.json().await.unwrap();
+        assert_eq!(p["field"], "case", "{p}");
+        assert!(p["detail"].as_str().unwrap().contains("object"), "{p}");
+    }
+}
+
+/// Two equal keys in a plan's body were read as the last one: a key given twice anywhere in
+/// the body is 400 naming it, as for every other route.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_key_given_twice_in_a_plan_is_400_naming_it() {
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let case = short_case().to_string();
+    for (body, field) in [
+        (
+            format!(r#"{{"case": {case}, "budget_s": 60, "budget_s": 1e9}}"#),
+            "budget_s",
+        ),
+        (
+            format!(r#"{{"case": {{}}, "case": {case}, "budget_s": 60}}"#),
+            "case",
+        ),
+        (
+            r#"{"case": {"tube": {"length_mm": 8, "length_mm": 9}}, "budget_s": 60}"#.into(),
+            "case.tube.length_mm",
+        ),
+    ] {
+        let r = app
+            .client
+            .post(app.at("/v1/plan"))
+            .header("content-type", "application/json")
+            .body(body.clone())
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(r.status(), 400, "{body}");
+        let p: Value = r.json().await.unwrap();
+        assert_eq!(p["field"], field, "{p}");
+        assert!(
+            p["detail"].as_str().unwrap().contains("more than once"),
+            "{p}"
+        );
+    }
+}

@@ -214,7 +214,11 @@ async fn a_200_kb_field_name_is_quoted_clipped_in_a_small_answer() {
     let bad_variant = json!({"loading": {"mode": long.clone()}});
     let in_base = json!({"base": {"tube": { long.clone(): 1 }}, "parameters": {"label": ["x"]}});
     let labelled = json!({"label": long.clone(), "parameters": {"tube.length_mm": [8]}});
+    let plan = json!({"case": tiny_case(), "budget_s": 60, long.clone(): 1});
+    let sign_in = json!({"token": "t", long.clone(): 1});
     for (route, body) in [
+        ("/v1/plan", plan),
+        ("/v1/session", sign_in),
         ("/v1/sweeps", sweep),
         ("/v1/jobs", unknown.clone()),
         ("/v1/estimate", unknown),

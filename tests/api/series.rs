@@ -169,7 +169,7 @@ async fn a_job_with_three_frames_serves_its_pvd_each_frame_and_the_archive_as_cr
 }
 
 #[tokio::test]
-async fn a_job_without_frames_has_no_series_and_a_missing_frame_is_404() {
+async fn a_job_without_frames_has_no_series_and_a_frame_not_named_as_the_pvd_names_it_is_404() {
     let app = TestApp::start(&[]).await;
     let without = app.submit(&tiny_case()).await["id"]
         .as_str()
@@ -190,7 +190,17 @@ async fn a_job_without_frames_has_no_series_and_a_missing_frame_is_404() {
         let detail = p["detail"].as_str().unwrap();
         assert!(detail.contains("output.frames"), "{path}: {detail}");
     }
-    for name in ["3.vtu", "x.vtu", "0.vtk", "-1.vtu", "99999999999.vtu"] {
+    // Frame 1 by its one name only: "+1" and "01" are no frames.
+    for name in [
+        "3.vtu",
+        "x.vtu",
+        "0.vtk",
+        "-1.vtu",
+        "99999999999.vtu",
+        "+1.vtu",
+        "01.vtu",
+        "%2B1.vtu",
+    ] {
         let p = problem(&app, &format!("/v1/jobs/{with}/frames/{name}"), 404).await;
         let detail = p["detail"].as_str().unwrap();
         assert!(detail.contains("0.vtu to 2.vtu"), "{name}: {detail}");

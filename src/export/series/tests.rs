@@ -118,3 +118,24 @@ fn the_pvd_lists_each_frame_by_its_relative_file_and_travel() {
     );
     assert_eq!(text.matches("<DataSet").count(), 2);
 }
+
+#[test]
+fn a_frame_is_named_only_as_frame_file_writes_it() {
+    for k in [0, 1, 10, 4_294_967_295] {
+        let file = frame_file(k);
+        assert_eq!(frame_index(file.strip_prefix("frames/").unwrap()), Some(k));
+    }
+    for name in [
+        "+1.vtu",
+        "01.vtu",
+        "00.vtu",
+        "-0.vtu",
+        ".vtu",
+        "1.vtk",
+        " 1.vtu",
+        "1 .vtu",
+        "4294967296.vtu",
+    ] {
+        assert_eq!(frame_index(name), None, "{name}");
+    }
+}

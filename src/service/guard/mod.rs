@@ -7,6 +7,7 @@ pub mod rate;
 pub mod tokens;
 
 use super::error::ApiError;
+use crate::solver::model::input::clip;
 use axum::extract::{ConnectInfo, Request};
 use axum::http::{header, HeaderMap, HeaderValue, Method};
 use axum::middleware::Next;
@@ -258,14 +259,26 @@ impl Guard {
 }
 
 /// The host name of a `Host` value, without its port: `example.org:8080` → `example.org`,
-/// `[::1]:80` → `[::1]`.
+/// `[::1]:80` → `[::1]`. An IPv6 literal is `[…]` followed by nothing or `:port`; a value
+/// that is neither that nor `name[:port]` is kept whole, so that it names no host answered.
 fn host_name(host: &str) -> &str {
-    if host.starts_with('[') {
-        return host.find(']').map_or(host, |end| &host[..=end]);
-    }
-    match host.rsplit_once(':') {
-        Some((name, port)) if port.bytes().all(|b| b.is_ascii_digit()) => name,
-        _ => host,
+    let (name, port) = if host.starts_with('[') {
+        let Some(end) = host.find(']') else {
+            return host;
+        };
+        let (name, rest) = host.split_at(end + 1);
+        match rest.strip_prefix(':') {
+            Some(port) => (name, port),
+            None if rest.is_empty() => (name, ""),
+            None => return host,
+        }
+    } else {
+        host.rsplit_once(':').unwrap_or((host, ""))
+    };
+    if port.bytes().all(|b| b.is_ascii_digit()) {
+        name
+    } else {
+        host
     }
 }
 
@@ -292,7 +305,8 @@ fn cross_site(method: &Method, headers: &HeaderMap) -> Option<String> {
     if let Some(site) = text("sec-fetch-site") {
         if site != "same-origin" && site != "none" {
             return Some(format!(
-                "a cross-site request (Sec-Fetch-Site: {site}) may not act on this server"
+                "a cross-site request (Sec-Fetch-Site: {}) may not act on this server",
+                clip(site)
             ));
         }
     }
@@ -301,7 +315,9 @@ fn cross_site(method: &Method, headers: &HeaderMap) -> Option<String> {
         let authority = origin.split_once("://").map(|(_, a)| a);
         if !authority.is_some_and(|a| a.eq_ignore_ascii_case(host)) {
             return Some(format!(
-                "a request from the origin {origin} may not act on this server (host {host})"
+                "a request from the origin {} may not act on this server (host {})",
+                clip(origin),
+                clip(host)
             ));
         }
     }
@@ -447,6 +463,33 @@ mod tests {
         assert_eq!(host_name("[::1]"), "[::1]");
         assert_eq!(host_name("127.0.0.1:1"), "127.0.0.1");
         assert_eq!(host_name(""), "");
+    }
+
+    #[test]
+    fn an_ipv6_literal_followed_by_anything_but_a_port_is_kept_whole() {
+        for host in [
+            "[::1]evil",
+            "[::1]evil:80",
+            "[::1]:80x",
+            "[::1]:80:80",
+            "[::1",
+        ] {
+            let name = host_name(host);
+            assert!(!LOOPBACK_HOSTS.contains(&name), "{host} read as {name}");
+        }
+        assert_eq!(host_name("[::1]evil"), "[::1]evil");
+        assert_eq!(host_name("example.org:80x"), "example.org:80x");
+    }
+
+    #[test]
+    fn a_long_origin_or_sec_fetch_site_is_quoted_clipped() {
+        let long = "a".repeat(50_000);
+        for name in ["origin", "sec-fetch-site", "host"] {
+            let mut h = headers(&[("origin", "http://evil.example")]);
+            h.insert(name, HeaderValue::from_str(&long).unwrap());
+            let why = cross_site(&Method::POST, &h).unwrap();
+            assert!(why.len() < 400, "{name}: {} bytes", why.len());
+        }
     }
 
     #[test]

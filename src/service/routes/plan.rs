@@ -9,6 +9,7 @@ use crate::service::error::ApiError;
 use crate::solver::analysis::plan::{plan as solver_plan, Goal, Plan};
 use crate::solver::analysis::rates::Rates;
 use crate::solver::model::case::{spec_from_value, CaseError, CaseSpec};
+use crate::solver::model::input::{clip, object_from_str};
 use crate::solver::{Case, FieldError};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
@@ -75,15 +76,27 @@ pub(super) async fn calibrated_rates(s: &AppState) -> Rates {
     }
 }
 
-/// The body → the case's fields and the goal, or every field that is wrong.
+/// The body → the case's fields and the goal, or every field that is wrong: 400 for a body
+/// that is not one object with every key once and a case object, as for a sweep; else 422.
 fn read(text: &str) -> Result<(CaseSpec, Goal), ApiError> {
-    let body: Map<String, Value> = serde_json::from_str(text)
-        .map_err(|e| ApiError::bad_request(format!("the body is not a JSON object: {e}"), None))?;
+    let body = object_from_str(text).map_err(|e| ApiError::BadRequest {
+        detail: match &e.field {
+            Some(f) => format!("malformed plan request at {f}: {}", e.message),
+            None => format!("malformed plan request: {}", e.message),
+        },
+        field: e.field,
+    })?;
+    if body.get("case").is_some_and(|case| !case.is_object()) {
+        return Err(ApiError::bad_request(
+            "malformed plan request at case: must be a case object",
+            Some("case"),
+        ));
+    }
     let mut errors = Vec::new();
     for key in body.keys() {
         if !["case", "target_error_percent", "budget_s"].contains(&key.as_str()) {
             errors.push(fail(
-                key,
+                &clip(key),
                 "unknown field: a plan takes case and one of target_error_percent, budget_s",
             ));
         }

@@ -13,6 +13,7 @@ use crate::service::connection::{metered, Connection};
 use crate::service::error::ApiError;
 use crate::service::store::{JobRecord, Store};
 use crate::solver::model::case::{spec_from_json, Geometry};
+use crate::solver::model::input::clip;
 use axum::extract::{Extension, Path, State};
 use axum::response::Response;
 use std::io::{self, Write};
@@ -78,12 +79,12 @@ pub async fn frame_vtu(
     let kept = kept(&s, &id).await?;
     let last = kept.frames.last().map_or(0, |f| f.index);
     let no_frame = || ApiError::NotFound {
-        what: format!("frame file {name:?} of job {id} (its frames are 0.vtu to {last}.vtu)"),
+        what: format!(
+            "frame file {:?} of job {id} (its frames are 0.vtu to {last}.vtu)",
+            clip(&name)
+        ),
     };
-    let k: u32 = match name.strip_suffix(".vtu").map(str::parse) {
-        Some(Ok(k)) => k,
-        _ => return Err(no_frame()),
-    };
+    let k = series::frame_index(&name).ok_or_else(no_frame)?;
     let (at, state) = read_frame(&s.store, kept.record.id, k)
         .await?
         .ok_or_else(no_frame)?;

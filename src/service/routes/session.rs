@@ -5,6 +5,7 @@
 use super::{json_text, AppState};
 use crate::service::error::ApiError;
 use crate::service::guard::{Caller, Role, COOKIE};
+use crate::solver::model::input::clip_quoted;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Extension, State};
@@ -62,7 +63,10 @@ pub async fn sign_in(
     let text = json_text(&headers, body, s.limits.max_body_bytes)?;
     let request: SignIn = serde_json::from_str(&text).map_err(|e| {
         ApiError::bad_request(
-            format!("a sign-in is {{\"token\": \"…\"}}: {e}"),
+            format!(
+                "a sign-in is {{\"token\": \"…\"}}: {}",
+                clip_quoted(&e.to_string())
+            ),
             Some("token"),
         )
     })?;

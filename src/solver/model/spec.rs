@@ -514,8 +514,15 @@ pub fn object_from_json(text: &str) -> Result<serde_json::Map<String, Value>, Ca
 }
 
 /// A JSON value (read strictly, see [`object_from_json`]) → spec, naming the field of a type
-/// error or an unknown field; what the message quotes of the client's text is clipped.
+/// error or an unknown field; what the message quotes of the client's text is clipped. Only an
+/// object is a case: serde would read one from an array by position.
 pub fn spec_from_value(value: &Value) -> Result<CaseSpec, CaseError> {
+    if !value.is_object() {
+        return Err(CaseError::Malformed {
+            field: None,
+            message: "must be a JSON object".into(),
+        });
+    }
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         CaseError::Malformed {

@@ -105,6 +105,25 @@ fn empty_object_is_the_pvc_default() {
 }
 
 #[test]
+fn an_empty_array_is_not_read_as_the_default_case() {
+    for value in [
+        serde_json::json!([]),
+        serde_json::json!([{}]),
+        serde_json::Value::Null,
+    ] {
+        match spec_from_value(&value) {
+            Err(CaseError::Malformed {
+                field: None,
+                message,
+            }) => {
+                assert!(message.contains("object"), "{value}: {message}")
+            }
+            other => panic!("{value}: {other:?}"),
+        }
+    }
+}
+
+#[test]
 fn n6_lattice_matches_the_source_particle_count() {
     let mut spec = CaseSpec::default();
     spec.discretization.particles_through_thickness = 6;
