@@ -208,19 +208,31 @@ async fn twenty_concurrent_frame_and_series_tar_downloads_stay_under_a_memory_bo
     );
 }
 
-/// A client that asks for `path` and reads it at most 6 KB every 100 ms (60 KB/s), for a
-/// minute or until the server closes the connection.
-async fn slow_reader(app: &TestApp, path: &str) -> tokio::task::JoinHandle<()> {
+/// A client that asks for `path` and reads it at most 6 KB every 100 ms (60 KB/s) until `fast`
+/// turns true, then as fast as it can. It ends when the server closes the connection, or once
+/// nothing more comes for 3 s (the answer is whole and the connection kept alive), and says how
+/// many bytes it read and whether the server closed the connection.
+async fn slow_reader(
+    app: &TestApp,
+    path: &str,
+    fast: tokio::sync::watch::Receiver<bool>,
+) -> tokio::task::JoinHandle<(usize, bool)> {
     let mut stream = request(app, path).await;
     tokio::spawn(async move {
         let mut buf = vec![0u8; 6 * 1024];
-        let start = Instant::now();
+        let (start, mut got) = (Instant::now(), 0);
         while start.elapsed() < Duration::from_secs(60) {
-            match stream.read(&mut buf).await {
-                Ok(0) | Err(_) => return,
-                Ok(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+            let read = tokio::time::timeout(Duration::from_secs(3), stream.read(&mut buf));
+            match read.await {
+                Err(_) => return (got, false),
+                Ok(Ok(0) | Err(_)) => return (got, true),
+                Ok(Ok(n)) => got += n,
+            }
+            if !*fast.borrow() {
+                tokio::time::sleep(Duration::from_millis(100)).await;
             }
         }
+        (got, false)
     })
 }
 
@@ -229,11 +241,12 @@ async fn slow_reader(app: &TestApp, path: &str) -> tokio::task::JoinHandle<()> {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_history_does_not_wait_for_two_slow_readers_holding_both_slots() {
     let app = TestApp::start(&["--concurrent-jobs", "1"]).await;
-    let (id, _) = large_state(&app).await;
+    let (id, size) = large_state(&app).await;
     let path = format!("/v1/jobs/{id}/state.vtu");
+    let (fast, slow) = tokio::sync::watch::channel(false);
     let readers = [
-        slow_reader(&app, &path).await,
-        slow_reader(&app, &path).await,
+        slow_reader(&app, &path, slow.clone()).await,
+        slow_reader(&app, &path, slow).await,
     ];
     tokio::time::sleep(Duration::from_secs(1)).await;
     for format in ["csv", "json"] {
@@ -250,40 +263,45 @@ async fn a_history_does_not_wait_for_two_slow_readers_holding_both_slots() {
             "the {format} history took {took:?}"
         );
     }
-    // No download waited for a slot, so the slow readers keep theirs.
-    assert!(readers.iter().all(|r| !r.is_finished()));
+    // No download waited for a slot, so both slow readers kept theirs: each reads its file whole.
+    fast.send(true).unwrap();
     for reader in readers {
-        reader.abort();
+        let (got, closed) = reader.await.unwrap();
+        assert!(got > size && !closed, "{got} bytes, closed: {closed}");
     }
 }
 
 /// Two clients reading a large `state.vtu` at 60 KB/s held both download slots, and every
 /// other VTU file, frame or archive waited 30 s for one, then got 503. Only the fair share
-/// frees a slot here (no minimum rate): the slower reader is closed a few seconds into the
-/// wait, and the other, with no one waiting any more, keeps its slot.
+/// frees a slot here (no minimum rate): one slow reader is closed a few seconds into the wait,
+/// and the other, with no one waiting any more, keeps its slot.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_third_download_gets_a_slot_from_two_slow_readers_within_seconds() {
     let app = TestApp::start(&["--concurrent-jobs", "1", "--min-download-bytes-per-s", "0"]).await;
     let (id, size) = large_state(&app).await;
     let path = format!("/v1/jobs/{id}/state.vtu");
+    let (fast, slow) = tokio::sync::watch::channel(false);
     let readers = [
-        slow_reader(&app, &path).await,
-        slow_reader(&app, &path).await,
+        slow_reader(&app, &path, slow.clone()).await,
+        slow_reader(&app, &path, slow).await,
     ];
     tokio::time::sleep(Duration::from_secs(1)).await;
     let start = Instant::now();
     let r = app.get(&path).await;
     assert_eq!(r.status(), 200);
     let took = start.elapsed();
-    let whole = r.bytes().await.unwrap().len();
+    assert_eq!(r.bytes().await.unwrap().len(), size);
     eprintln!("the third download waited {took:?} for its slot");
-    assert_eq!(whole, size);
     // A window of 3 s to judge the readers, a second or two to close one.
     assert!(took < Duration::from_secs(12), "it waited {took:?}");
-    tokio::time::sleep(Duration::from_secs(1)).await;
-    let closed = readers.iter().filter(|r| r.is_finished()).count();
-    assert_eq!(closed, 1, "slow readers closed");
+    fast.send(true).unwrap();
+    let mut ended = Vec::new();
     for reader in readers {
-        reader.abort();
+        ended.push(reader.await.unwrap());
     }
+    ended.sort_by_key(|(_, closed)| *closed);
+    let [(whole, false), (cut, true)] = ended[..] else {
+        panic!("one reader closed, the other whole: {ended:?}");
+    };
+    assert!(whole > size && cut < size, "{ended:?}");
 }
