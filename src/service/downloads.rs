@@ -5,16 +5,20 @@
 //!
 //! - **minimum rate**: a download taken slower than `--min-download-bytes-per-s` on average,
 //!   checked each second from [`DOWNLOAD_GRACE`] on, closes its connection ([`metered`]).
-//! - **fair share**: while a download waits for a slot, it watches the holders; one whose body
-//!   went slower than `--fair-download-bytes-per-s` over a [`FAIR_WINDOW`] of that wait is
-//!   closed, and its slot goes to the first in line. Each waiting download closes one holder
-//!   at a time, the slowest, so a slow reader with no one waiting keeps its slot.
+//! - **fair share**: while a download waits for a slot, it watches the holders; one whose
+//!   client took it slower than `--fair-download-bytes-per-s` over a [`FAIR_WINDOW`] of that
+//!   wait is closed, and its slot goes to the first in line. Each waiting download closes one
+//!   holder at a time, the slowest, so a slow reader with no one waiting keeps its slot. The
+//!   time the connection waited for the server to write the next bytes (a frame read from the
+//!   store, an archive's entry sized) is the server's, not the client's, and is left out.
 
 use super::connection::Connection;
 use axum::body::Body;
-use futures::StreamExt;
+use futures::{Stream, StreamExt};
+use std::pin::Pin;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
+use std::task::{Context, Poll};
 use std::time::Duration;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 use tokio::time::Instant;
@@ -35,9 +39,9 @@ pub const HEAVY_WAIT: Duration = Duration::from_secs(30);
 /// How long a heavy download may take before its average rate is checked.
 pub const DOWNLOAD_GRACE: Duration = Duration::from_secs(10);
 
-/// The span a holder's rate is measured over while another download waits. Three seconds: a
-/// download that has just begun fills the socket buffers (a few MB at once) in its first
-/// window and is judged on what its client reads in the next.
+/// The span of its client's time a holder's rate is measured over while another download
+/// waits. Three seconds: a download that has just begun fills the socket buffers (a few MB at
+/// once) in its first window and is judged on what its client reads in the next.
 pub const FAIR_WINDOW: Duration = Duration::from_secs(3);
 
 /// The heavy-download slots: [`HEAVY_AT_ONCE`] of them, and who holds them.
@@ -55,10 +59,16 @@ pub struct Slot {
 }
 
 /// What the slots know of a download that holds one.
-#[derive(Default)]
 struct Holder {
     /// Bytes its body has handed to the connection.
     sent: AtomicU64,
+    /// When it was made: the origin of the times below.
+    born: Instant,
+    /// Nanoseconds the connection has waited for the body's next bytes, in waits now over.
+    building_ns: AtomicU64,
+    /// Since when (ns from `born`) the connection waits for the body's next bytes;
+    /// [`NOT_WAITING`] when it does not.
+    waiting_since_ns: AtomicU64,
     /// Its connection, once its body is being sent ([`metered`]); a download still being
     /// built is never closed for another.
     connection: OnceLock<Connection>,
@@ -66,6 +76,36 @@ struct Holder {
     closed: AtomicBool,
     /// Its slot is free.
     released: AtomicBool,
+}
+
+const NOT_WAITING: u64 = u64::MAX;
+
+impl Holder {
+    fn new() -> Holder {
+        Holder {
+            sent: AtomicU64::new(0),
+            born: Instant::now(),
+            building_ns: AtomicU64::new(0),
+            waiting_since_ns: AtomicU64::new(NOT_WAITING),
+            connection: OnceLock::new(),
+            closed: AtomicBool::new(false),
+            released: AtomicBool::new(false),
+        }
+    }
+
+    fn ns(&self, at: Instant) -> u64 {
+        u64::try_from((at - self.born).as_nanos()).unwrap_or(u64::MAX - 1)
+    }
+
+    /// How long, up to `now`, the connection has waited for the body's next bytes.
+    fn building(&self, now: Instant) -> Duration {
+        let since = self.waiting_since_ns.load(Ordering::Relaxed);
+        let open = match since {
+            NOT_WAITING => 0,
+            since => self.ns(now).saturating_sub(since),
+        };
+        Duration::from_nanos(self.building_ns.load(Ordering::Relaxed) + open)
+    }
 }
 
 /// Counts what a slot's body sends, for the downloads waiting for a slot ([`Slot::meter`]).
@@ -107,7 +147,7 @@ impl Slots {
                 permit = &mut acquire => {
                     // The semaphore is never closed.
                     let permit = permit.ok()?;
-                    let holder = Arc::new(Holder::default());
+                    let holder = Arc::new(Holder::new());
                     let mut holders = self.holders.lock().unwrap_or_else(|e| e.into_inner());
                     holders.retain(|h| h.upgrade().is_some_and(|h| !h.released.load(Ordering::Relaxed)));
                     holders.push(Arc::downgrade(&holder));
@@ -136,10 +176,10 @@ impl Slots {
             let list = self.holders.lock().unwrap_or_else(|e| e.into_inner());
             list.iter().filter_map(Weak::upgrade).collect()
         };
-        watch.windows.retain(|(h, ..)| {
+        watch.windows.retain(|w| {
             holders
                 .iter()
-                .any(|k| std::ptr::eq(h.as_ptr(), Arc::as_ptr(k)))
+                .any(|k| std::ptr::eq(w.holder.as_ptr(), Arc::as_ptr(k)))
         });
         let mut slowest: Option<(Arc<Holder>, f64, u64)> = None;
         for holder in holders {
@@ -149,19 +189,25 @@ impl Slots {
             {
                 continue;
             }
-            let sent = holder.sent.load(Ordering::Relaxed);
+            let (sent, building) = (holder.sent.load(Ordering::Relaxed), holder.building(now));
             let this = Arc::as_ptr(&holder);
-            let Some(window) = watch.windows.iter_mut().find(|(h, ..)| h.as_ptr() == this) else {
-                watch.windows.push((Arc::downgrade(&holder), now, sent));
+            let Some(window) = watch.windows.iter_mut().find(|w| w.holder.as_ptr() == this) else {
+                watch.windows.push(Window {
+                    holder: Arc::downgrade(&holder),
+                    since: now,
+                    sent,
+                    building,
+                });
                 continue;
             };
-            let seconds = (now - window.1).as_secs_f64();
-            if seconds < FAIR_WINDOW.as_secs_f64() {
+            let client =
+                (now - window.since).saturating_sub(building.saturating_sub(window.building));
+            if client < FAIR_WINDOW {
                 continue;
             }
-            let taken = sent.saturating_sub(window.2);
-            let rate = taken as f64 / seconds;
-            (window.1, window.2) = (now, sent);
+            let taken = sent.saturating_sub(window.sent);
+            let rate = taken as f64 / client.as_secs_f64();
+            (window.since, window.sent, window.building) = (now, sent, building);
             if rate < self.fair_rate as f64 && slowest.as_ref().is_none_or(|(_, r, _)| rate < *r) {
                 slowest = Some((holder, rate, taken));
             }
@@ -189,10 +235,18 @@ impl Slots {
 /// What one waiting download has seen of the holders.
 #[derive(Default)]
 struct Watch {
-    /// Each sending holder's current window: since when, and its bytes sent then.
-    windows: Vec<(Weak<Holder>, Instant, u64)>,
+    /// Each sending holder's current window.
+    windows: Vec<Window>,
     /// The holder it closed last.
     victim: Weak<Holder>,
+}
+
+/// A holder's window: since when, and its bytes sent and time building then.
+struct Window {
+    holder: Weak<Holder>,
+    since: Instant,
+    sent: u64,
+    building: Duration,
 }
 
 /// A download's body, counted into `meter` (its slot's, for a heavy one), whose connection is
@@ -219,19 +273,14 @@ pub fn metered(
             let _ = holder.connection.set(connection.clone());
             holder
         }
-        None => Arc::new(Holder::default()),
+        None => Arc::new(Holder::new()),
     };
     let alive = Arc::new(());
-    let (counter, held) = (counted.clone(), alive.clone());
-    let stream = body.into_data_stream().map(move |chunk| {
-        let _held = &held;
-        if let Ok(bytes) = &chunk {
-            counter
-                .sent
-                .fetch_add(bytes.len() as u64, Ordering::Relaxed);
-        }
-        chunk
-    });
+    let stream = Counted {
+        inner: body.into_data_stream(),
+        holder: counted.clone(),
+        _alive: alive.clone(),
+    };
     if min_rate > 0 {
         let watched = Arc::downgrade(&alive);
         tokio::spawn(async move {
@@ -259,4 +308,40 @@ pub fn metered(
     }
     drop(alive);
     Body::from_stream(stream)
+}
+
+/// A body's data, counted into its holder as the connection takes it.
+struct Counted<S> {
+    inner: S,
+    holder: Arc<Holder>,
+    _alive: Arc<()>,
+}
+
+impl<S: Stream<Item = Result<axum::body::Bytes, axum::Error>> + Unpin> Stream for Counted<S> {
+    type Item = S::Item;
+
+    fn poll_next(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Self::Item>> {
+        let polled = self.inner.poll_next_unpin(cx);
+        let holder = &self.holder;
+        let now = holder.ns(Instant::now());
+        if polled.is_pending() {
+            let _ = holder.waiting_since_ns.compare_exchange(
+                NOT_WAITING,
+                now,
+                Ordering::Relaxed,
+                Ordering::Relaxed,
+            );
+        } else {
+            let since = holder.waiting_since_ns.swap(NOT_WAITING, Ordering::Relaxed);
+            if since != NOT_WAITING {
+                holder
+                    .building_ns
+                    .fetch_add(now.saturating_sub(since), Ordering::Relaxed);
+            }
+        }
+        if let Poll::Ready(Some(Ok(bytes))) = &polled {
+            holder.sent.fetch_add(bytes.len() as u64, Ordering::Relaxed);
+        }
+        polled
+    }
 }
