@@ -10,8 +10,9 @@
 //! - **write stall**: a write that makes no progress for `--write-timeout-s` (a client that does
 //!   not read) closes the connection. Nothing ever times out a read of an open request, so event
 //!   streams, which only write, live as long as their clients read them.
-//! - **download rate**: a heavy download ([`metered`]) taken slower than
-//!   `--min-download-bytes-per-s` on average closes its connection, which frees its slot.
+//! - **download rate**: a download taken slower than `--min-download-bytes-per-s` on average,
+//!   or, while another waits for its slot, slower than `--fair-download-bytes-per-s`, is closed
+//!   through its [`Connection`] (`super::downloads`).
 //!
 //! Each connection's writes go through [`ProblemIo`] (hyper's bare error heads become
 //! problem+json). On shutdown, idle connections close at once and busy ones finish their answer.
@@ -22,12 +23,10 @@ use axum::extract::{ConnectInfo, Request, State};
 use axum::middleware::Next;
 use axum::response::Response;
 use axum::Router;
-use futures::StreamExt;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use std::future::Future;
 use std::net::SocketAddr;
 use std::pin::Pin;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::task::{Context, Poll};
 use std::time::Duration;
@@ -53,6 +52,10 @@ pub struct TimeoutArgs {
     /// from its first 10 s on, or its connection is closed; 0: no minimum.
     #[arg(long, env = "CRUSH_MIN_DOWNLOAD_BYTES_PER_S", default_value_t = 65536)]
     pub min_download_bytes_per_s: u64,
+    /// While a download waits for a slot, a download holding one that its client took slower
+    /// than this over the last 3 s is closed, and its slot goes to the waiting one; 0: never.
+    #[arg(long, env = "CRUSH_FAIR_DOWNLOAD_BYTES_PER_S", default_value_t = 1 << 20)]
+    pub fair_download_bytes_per_s: u64,
 }
 
 /// The time limits of connections, checked.
@@ -63,6 +66,8 @@ pub struct Timeouts {
     pub write: Duration,
     /// Bytes a second; 0: none.
     pub min_download_rate: u64,
+    /// Bytes a second a slot's holder must keep while another download waits; 0: none.
+    pub fair_download_rate: u64,
 }
 
 impl TimeoutArgs {
@@ -79,6 +84,7 @@ impl TimeoutArgs {
             body: seconds("--body-timeout-s", self.body_timeout_s)?,
             write: seconds("--write-timeout-s", self.write_timeout_s)?,
             min_download_rate: self.min_download_bytes_per_s,
+            fair_download_rate: self.fair_download_bytes_per_s,
         })
     }
 }
@@ -242,52 +248,4 @@ impl HttpBody for Deadline {
     fn size_hint(&self) -> http_body::SizeHint {
         self.inner.size_hint()
     }
-}
-
-/// How long a heavy download may take before its rate is checked.
-pub const DOWNLOAD_GRACE: Duration = Duration::from_secs(10);
-
-/// A heavy download's body, whose connection is closed once the client has taken it slower
-/// than `min_rate` bytes a second on average since it began, checked each second from
-/// [`DOWNLOAD_GRACE`] on. Closing the connection drops the body, and with it the slot it
-/// holds. Without a connection (a router served some other way) or a rate, `body` as it is.
-pub fn metered(body: Body, connection: Option<&Connection>, min_rate: u64) -> Body {
-    let Some(connection) = connection.filter(|_| min_rate > 0).cloned() else {
-        return body;
-    };
-    let sent = Arc::new(AtomicU64::new(0));
-    let alive = Arc::new(());
-    let (counter, held) = (sent.clone(), alive.clone());
-    let stream = body.into_data_stream().map(move |chunk| {
-        let _held = &held;
-        if let Ok(bytes) = &chunk {
-            counter.fetch_add(bytes.len() as u64, Ordering::Relaxed);
-        }
-        chunk
-    });
-    let watched = Arc::downgrade(&alive);
-    drop(alive);
-    tokio::spawn(async move {
-        let start = tokio::time::Instant::now();
-        let mut tick = tokio::time::interval_at(start + DOWNLOAD_GRACE, Duration::from_secs(1));
-        loop {
-            tick.tick().await;
-            if watched.strong_count() == 0 {
-                return;
-            }
-            let elapsed = start.elapsed().as_secs_f64();
-            let taken = sent.load(Ordering::Relaxed);
-            if (taken as f64) < min_rate as f64 * elapsed {
-                tracing::warn!(
-                    peer = %connection.peer,
-                    bytes = taken,
-                    seconds = elapsed,
-                    "closing a download taken slower than --min-download-bytes-per-s"
-                );
-                connection.close();
-                return;
-            }
-        }
-    });
-    Body::from_stream(stream)
 }

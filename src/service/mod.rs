@@ -7,6 +7,7 @@ mod cluster;
 mod connection;
 pub mod contract;
 mod cpu;
+mod downloads;
 mod error;
 mod form;
 pub mod guard;
@@ -22,9 +23,10 @@ mod views;
 mod worker;
 
 pub use connection::TimeoutArgs;
+pub use downloads::HEAVY_AT_ONCE;
 pub use error::ApiError;
 pub use guard::AccessArgs;
-pub use routes::{app, routes, AppState, HttpLimits, HEAVY_AT_ONCE};
+pub use routes::{app, routes, AppState, HttpLimits};
 pub use worker::{WorkerConfig, Workers};
 
 use anyhow::Context;
@@ -270,7 +272,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         workers: workers.clone(),
         limits: Arc::new(limits),
         sse_permits: Arc::new(Semaphore::new(args.max_sse_clients)),
-        heavy: Arc::new(Semaphore::new(routes::HEAVY_AT_ONCE)),
+        heavy: Arc::new(downloads::Slots::new(timeouts.fair_download_rate)),
         cpu: cpu::CpuGate::new(cpu::CPU_AT_ONCE, cpu::CPU_WAIT),
         shutdown: shutdown_rx.clone(),
         guard: guard.clone(),

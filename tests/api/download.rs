@@ -1,12 +1,15 @@
-//! Large downloads through the real server as a separate process: the final state of a job
-//! with 266 000 particles downloaded as `state.vtu` by 20 clients at once, and its time series
-//! as frames and archives. The files are streamed and built by at most a few requests at a
-//! time, so the server's peak memory stays bounded.
+//! Large downloads through the real server: the final state of a job with 266 000 particles
+//! downloaded as `state.vtu` by 20 clients at once, and its time series as frames and archives,
+//! by a separate process. The files are streamed and built by at most a few requests at a
+//! time, so the server's peak memory stays bounded. Two slow readers that hold both download
+//! slots neither delay a history nor keep a third download waiting.
 
 use crate::common::*;
+use crate::timeouts::{large_state, request};
 use futures::StreamExt;
 use serde_json::json;
-use std::time::Duration;
+use std::time::{Duration, Instant};
+use tokio::io::AsyncReadExt;
 
 /// Peak resident memory of a process so far, bytes (`VmHWM`).
 fn peak_rss(pid: i32) -> u64 {
@@ -203,4 +206,102 @@ async fn twenty_concurrent_frame_and_series_tar_downloads_stay_under_a_memory_bo
         grown < bound,
         "peak RSS grew {grown} bytes, over the bound {bound}"
     );
+}
+
+/// A client that asks for `path` and reads it at most 6 KB every 100 ms (60 KB/s) until `fast`
+/// turns true, then as fast as it can. It ends when the server closes the connection, or once
+/// nothing more comes for 3 s (the answer is whole and the connection kept alive), and says how
+/// many bytes it read and whether the server closed the connection.
+async fn slow_reader(
+    app: &TestApp,
+    path: &str,
+    fast: tokio::sync::watch::Receiver<bool>,
+) -> tokio::task::JoinHandle<(usize, bool)> {
+    let mut stream = request(app, path).await;
+    tokio::spawn(async move {
+        let mut buf = vec![0u8; 6 * 1024];
+        let (start, mut got) = (Instant::now(), 0);
+        while start.elapsed() < Duration::from_secs(60) {
+            let read = tokio::time::timeout(Duration::from_secs(3), stream.read(&mut buf));
+            match read.await {
+                Err(_) => return (got, false),
+                Ok(Ok(0) | Err(_)) => return (got, true),
+                Ok(Ok(n)) => got += n,
+            }
+            if !*fast.borrow() {
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        }
+        (got, false)
+    })
+}
+
+/// Two clients reading a large `state.vtu` at 60 KB/s (above what `--min-download-bytes-per-s`
+/// had counted) held both download slots, and a history waited 30 s for one, then got 503.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_history_does_not_wait_for_two_slow_readers_holding_both_slots() {
+    let app = TestApp::start(&["--concurrent-jobs", "1"]).await;
+    let (id, size) = large_state(&app).await;
+    let path = format!("/v1/jobs/{id}/state.vtu");
+    let (fast, slow) = tokio::sync::watch::channel(false);
+    let readers = [
+        slow_reader(&app, &path, slow.clone()).await,
+        slow_reader(&app, &path, slow).await,
+    ];
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    for format in ["csv", "json"] {
+        let start = Instant::now();
+        let r = app
+            .get(&format!("/v1/jobs/{id}/history?format={format}"))
+            .await;
+        assert_eq!(r.status(), 200);
+        let text = r.text().await.unwrap();
+        let took = start.elapsed();
+        assert!(text.contains("time_ms"), "{text}");
+        assert!(
+            took < Duration::from_secs(2),
+            "the {format} history took {took:?}"
+        );
+    }
+    // No download waited for a slot, so both slow readers kept theirs: each reads its file whole.
+    fast.send(true).unwrap();
+    for reader in readers {
+        let (got, closed) = reader.await.unwrap();
+        assert!(got > size && !closed, "{got} bytes, closed: {closed}");
+    }
+}
+
+/// Two clients reading a large `state.vtu` at 60 KB/s held both download slots, and every
+/// other VTU file, frame or archive waited 30 s for one, then got 503. Only the fair share
+/// frees a slot here (no minimum rate): one slow reader is closed a few seconds into the wait,
+/// and the other, with no one waiting any more, keeps its slot.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_third_download_gets_a_slot_from_two_slow_readers_within_seconds() {
+    let app = TestApp::start(&["--concurrent-jobs", "1", "--min-download-bytes-per-s", "0"]).await;
+    let (id, size) = large_state(&app).await;
+    let path = format!("/v1/jobs/{id}/state.vtu");
+    let (fast, slow) = tokio::sync::watch::channel(false);
+    let readers = [
+        slow_reader(&app, &path, slow.clone()).await,
+        slow_reader(&app, &path, slow).await,
+    ];
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    let start = Instant::now();
+    let r = app.get(&path).await;
+    assert_eq!(r.status(), 200);
+    let took = start.elapsed();
+    assert_eq!(r.bytes().await.unwrap().len(), size);
+    eprintln!("the third download waited {took:?} for its slot");
+    // A window of 3 s to judge the readers, a second or two to close one.
+    assert!(took < Duration::from_secs(12), "it waited {took:?}");
+    fast.send(true).unwrap();
+    let mut ended = Vec::new();
+    for reader in readers {
+        ended.push(reader.await.unwrap());
+    }
+    ended.sort_by_key(|(_, closed)| *closed);
+    let [(whole, false), (cut, true)] = ended[..] else {
+        panic!("one reader closed, the other whole: {ended:?}");
+    };
+    assert!(whole > size && cut < size, "{ended:?}");
 }

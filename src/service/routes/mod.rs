@@ -12,7 +12,6 @@ mod session;
 mod sweeps;
 
 pub(crate) use plan::PlanRequest;
-pub use results::HEAVY_AT_ONCE;
 pub(crate) use session::{SessionView, SignIn};
 
 use super::connection::{body_deadline, BodyTimedOut};
@@ -62,9 +61,9 @@ pub struct AppState {
     pub limits: Arc<HttpLimits>,
     /// One permit per open SSE stream.
     pub sse_permits: Arc<Semaphore>,
-    /// One permit per answer built from a final state (VTU file, picture): they cost memory
-    /// in proportion to the particles.
-    pub heavy: Arc<Semaphore>,
+    /// One slot per heavy answer being built or sent (VTU file, particle table, frames,
+    /// archive, picture, long history): they cost memory in proportion to the particles or rows.
+    pub heavy: Arc<super::downloads::Slots>,
     /// Turns at the CPU for handlers that read and check cases and sweeps.
     pub cpu: super::cpu::CpuGate,
     /// Becomes true when the server shuts down; open SSE streams end then.

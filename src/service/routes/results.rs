@@ -5,7 +5,8 @@
 use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
 use crate::export::{self, FinalState};
 use crate::plot;
-use crate::service::connection::{metered, Connection};
+use crate::service::connection::Connection;
+use crate::service::downloads::{metered, Slot, HEAVY_AT_ONCE, HEAVY_WAIT};
 use crate::service::error::ApiError;
 use crate::service::store::{JobRecord, Status};
 use crate::service::views::HistoryView;
@@ -121,7 +122,7 @@ pub async fn shape_png(
     State(s): State<AppState>,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let _permit = heavy_permit(&s).await?;
+    let _slot = heavy_slot(&s).await?;
     let kept = final_state(&s, &id, "picture").await?;
     let title = format!("{} — final shape", title(&kept.record));
     let png = render(move || {
@@ -141,15 +142,21 @@ pub async fn state_vtu(
     Path(id): Path<String>,
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
-    let permit = heavy_permit(&s).await?;
+    let slot = heavy_slot(&s).await?;
     let Kept {
         geometry, state, ..
     } = final_state(&s, &id, "VTU file").await?;
-    let body = streamed(permit, "a VTU file", move |sink| {
+    let meter = slot.meter();
+    let body = streamed(slot, "a VTU file", move |sink| {
         let note = geometry.symmetry_note();
         export::vtu::write_vtu(sink, &geometry.positions(), &state, note)
     });
-    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let body = metered(
+        body,
+        connection.as_deref(),
+        s.limits.min_download_rate,
+        Some(meter),
+    );
     let disposition = format!("attachment; filename=\"{id}.vtu\"");
     Ok(file_response(
         "application/xml",
@@ -167,11 +174,12 @@ pub async fn particles_csv(
     Path(id): Path<String>,
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
-    let permit = heavy_permit(&s).await?;
+    let slot = heavy_slot(&s).await?;
     let Kept {
         geometry, state, ..
     } = final_state(&s, &id, "particle table").await?;
-    let body = streamed(permit, "a particle table", move |sink| {
+    let meter = slot.meter();
+    let body = streamed(slot, "a particle table", move |sink| {
         let start = geometry.positions();
         let rows = start
             .iter()
@@ -182,7 +190,12 @@ pub async fn particles_csv(
             .map(|_| ())
             .map_err(std::io::Error::other)
     });
-    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let body = metered(
+        body,
+        connection.as_deref(),
+        s.limits.min_download_rate,
+        Some(meter),
+    );
     let disposition = format!("attachment; filename=\"{id}-particles.csv\"");
     Ok(file_response(
         "text/csv; charset=utf-8",
@@ -193,16 +206,16 @@ pub async fn particles_csv(
 }
 
 /// A body that `write` fills on a blocking thread, in [`CHUNK`]s sent as the client reads,
-/// holding `permit` until it is written; an error ends the body cut short (the client sees a
+/// holding `slot` until it is written; an error ends the body cut short (the client sees a
 /// cut transfer, not a file) and is logged as failing to write `what`.
 pub(super) fn streamed(
-    permit: tokio::sync::OwnedSemaphorePermit,
+    slot: Slot,
     what: &'static str,
     write: impl FnOnce(&mut ChunkSink) -> std::io::Result<()> + Send + 'static,
 ) -> axum::body::Body {
     let (tx, rx) = tokio::sync::mpsc::channel(2);
     tokio::task::spawn_blocking(move || {
-        let _permit = permit;
+        let _slot = slot;
         let mut sink = ChunkSink {
             tx,
             buffer: Vec::with_capacity(CHUNK),
@@ -220,30 +233,26 @@ pub(super) fn streamed(
 
 /// A turn at building a large answer (held until it is sent, where the body is streamed);
 /// 503 after [`HEAVY_WAIT`] without one.
-pub(super) async fn heavy_permit(
-    s: &AppState,
-) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
-    match tokio::time::timeout(HEAVY_WAIT, s.heavy.clone().acquire_owned()).await {
-        Ok(permit) => permit.map_err(ApiError::internal),
-        Err(_) => Err(ApiError::Unavailable {
+pub(super) async fn heavy_slot(s: &AppState) -> Result<Slot, ApiError> {
+    s.heavy
+        .acquire()
+        .await
+        .ok_or_else(|| ApiError::Unavailable {
             detail: format!(
                 "every download slot ({HEAVY_AT_ONCE}) has been busy for {} s; try again later",
                 HEAVY_WAIT.as_secs()
             ),
             retry_after_s: 5,
-        }),
-    }
+        })
 }
 
-/// Longest a download waits for its turn. A slot is freed within `--write-timeout-s` of its
-/// client no longer reading, or once its client takes it slower than
-/// `--min-download-bytes-per-s`.
-const HEAVY_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
-
-/// Downloads built from a final state at a time; the rest wait their turn. Two: each build
-/// holds about 56 B a particle, and with four the allocator kept 147 MB after 20 downloads of
-/// a 266 k-particle state (`tests/api/download.rs`), against 92 MB with two.
-pub const HEAVY_AT_ONCE: usize = 2;
+/// The longest history built and sent without a download slot, rows: about 0.9 MB of CSV or
+/// JSON at the 230 B a row that histories take (116 KB for the default 500 rows), and while it
+/// is built another 0.5 MB for the rows read from the store. That is the order of the other
+/// answers sent without a slot (a job list, the load curve drawn from the same rows), and at
+/// `--min-download-bytes-per-s` (64 KB/s) a client takes it within 15 s or is closed, so
+/// these answers need no turn and never wait behind a VTU file.
+const LIGHT_HISTORY_ROWS: u64 = 4_000;
 
 /// Bytes sent to the client at a time.
 const CHUNK: usize = 256 * 1024;
@@ -296,6 +305,9 @@ pub async fn summary(
     ))
 }
 
+/// The history as JSON or CSV. One of up to [`LIGHT_HISTORY_ROWS`] rows is built and sent
+/// at once; a longer one (up to 100 000 rows, about 23 MB of text) waits for a download slot
+/// and holds it until it is sent, so that at most [`HEAVY_AT_ONCE`] are in memory at a time.
 pub async fn history(
     State(s): State<AppState>,
     Path(id): Path<String>,
@@ -305,9 +317,11 @@ pub async fn history(
 ) -> Result<Response, ApiError> {
     let csv = wants_csv(&headers, q.format.as_deref())?;
     let record = succeeded(&s, &id, "its history is stored when it succeeds").await?;
-    // Up to 100 000 rows (about 20 MB of text): read and written by at most HEAVY_AT_ONCE
-    // requests at a time, each holding its permit until the last chunk is sent.
-    let permit = heavy_permit(&s).await?;
+    let slot = if s.store.history_len(record.id).await? > LIGHT_HISTORY_ROWS {
+        Some(heavy_slot(&s).await?)
+    } else {
+        None
+    };
     let rows = s.store.history(record.id).await?;
     let (content_type, disposition, bytes) = if csv {
         let values = rows
@@ -326,21 +340,27 @@ pub async fn history(
         ("application/json", None, bytes)
     };
     drop(rows);
-    let body = chunked(bytes, permit);
-    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let meter = slot.as_ref().map(Slot::meter);
+    let body = chunked(bytes, slot);
+    let body = metered(
+        body,
+        connection.as_deref(),
+        s.limits.min_download_rate,
+        meter,
+    );
     Ok(file_response(content_type, disposition, None, body))
 }
 
-/// `bytes` as a body sent in [`CHUNK`]s, holding `permit` until the body is dropped (sent whole
+/// `bytes` as a body sent in [`CHUNK`]s, holding `slot` until the body is dropped (sent whole
 /// or abandoned by the client).
-fn chunked(bytes: Vec<u8>, permit: tokio::sync::OwnedSemaphorePermit) -> axum::body::Body {
+fn chunked(bytes: Vec<u8>, slot: Option<Slot>) -> axum::body::Body {
     let bytes = axum::body::Bytes::from(bytes);
     let chunks: Vec<axum::body::Bytes> = (0..bytes.len())
         .step_by(CHUNK)
         .map(|i| bytes.slice(i..(i + CHUNK).min(bytes.len())))
         .collect();
     let stream = futures::stream::iter(chunks).map(move |chunk| {
-        let _held = &permit;
+        let _held = &slot;
         Ok::<_, std::convert::Infallible>(chunk)
     });
     axum::body::Body::from_stream(stream)

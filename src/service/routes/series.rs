@@ -6,10 +6,11 @@
 //! holds one frame's state (80 bytes a particle with the start positions) and one stored part
 //! (3.5 MB), whatever the series' length.
 
-use super::results::{heavy_permit, streamed, succeeded, CACHE};
+use super::results::{heavy_slot, streamed, succeeded, CACHE};
 use super::{file_response, AppState};
 use crate::export::series::{self, FrameState, FrameTime};
-use crate::service::connection::{metered, Connection};
+use crate::service::connection::Connection;
+use crate::service::downloads::metered;
 use crate::service::error::ApiError;
 use crate::service::store::{JobRecord, Store};
 use crate::solver::model::case::{spec_from_json, Geometry};
@@ -75,7 +76,7 @@ pub async fn frame_vtu(
     Path((id, name)): Path<(String, String)>,
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
-    let permit = heavy_permit(&s).await?;
+    let slot = heavy_slot(&s).await?;
     let kept = kept(&s, &id).await?;
     let last = kept.frames.last().map_or(0, |f| f.index);
     let no_frame = || ApiError::NotFound {
@@ -89,11 +90,17 @@ pub async fn frame_vtu(
         .await?
         .ok_or_else(no_frame)?;
     let (geometry, count) = (kept.geometry, kept.count);
-    let body = streamed(permit, "a frame", move |sink| {
+    let meter = slot.meter();
+    let body = streamed(slot, "a frame", move |sink| {
         let note = series::frame_note(&at, count, geometry.symmetry_note());
         series::write_frame_vtu(sink, &geometry.positions(), &state, Some(&note))
     });
-    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let body = metered(
+        body,
+        connection.as_deref(),
+        s.limits.min_download_rate,
+        Some(meter),
+    );
     let disposition = format!("attachment; filename=\"{k}.vtu\"");
     Ok(file_response(
         "application/xml",
@@ -110,13 +117,14 @@ pub async fn series_tar(
     Path(id): Path<String>,
     connection: Option<Extension<Connection>>,
 ) -> Result<Response, ApiError> {
-    let permit = heavy_permit(&s).await?;
+    let slot = heavy_slot(&s).await?;
     let kept = kept(&s, &id).await?;
     let (store, runtime) = (s.store.clone(), tokio::runtime::Handle::current());
     let job = kept.record.id;
     // The entries' time: when the job finished, s.
     let mtime = kept.record.finished_at.unwrap_or(0).max(0) as u64 / 1000;
-    let body = streamed(permit, "a series archive", move |sink| {
+    let meter = slot.meter();
+    let body = streamed(slot, "a series archive", move |sink| {
         let start = kept.geometry.positions();
         let note = kept.geometry.symmetry_note();
         let folder = job.to_string();
@@ -151,7 +159,12 @@ pub async fn series_tar(
         // The end of the archive: two empty blocks.
         sink.write_all(&[0; 1024])
     });
-    let body = metered(body, connection.as_deref(), s.limits.min_download_rate);
+    let body = metered(
+        body,
+        connection.as_deref(),
+        s.limits.min_download_rate,
+        Some(meter),
+    );
     let disposition = format!("attachment; filename=\"{id}-series.tar\"");
     Ok(file_response(
         "application/x-tar",

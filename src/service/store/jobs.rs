@@ -198,6 +198,17 @@ impl Store {
         })
     }
 
+    /// How many rows a job's stored history has. They are numbered from 0 without gaps (all
+    /// stored in one transaction), so the largest number, read from the key, tells.
+    pub async fn history_len(&self, id: Uuid) -> Result<u64> {
+        let (next,): (i64,) =
+            sqlx::query_as("SELECT COALESCE(MAX(row) + 1, 0) FROM history WHERE job_id = $1")
+                .bind(id.to_string())
+                .fetch_one(&self.pool)
+                .await?;
+        Ok(next.max(0) as u64)
+    }
+
     /// The stored history of a job, each row's values in [`HistoryRow::COLUMNS`] order.
     pub async fn history(&self, id: Uuid) -> Result<Vec<Vec<f64>>> {
         let sql = format!(
