@@ -188,6 +188,13 @@ export async function renderJob(main, id) {
   let ended = false;
   onLeave(() => clearTimeout(redraw));
   const showProgress = (p) => {
+    const r = p.error_bar;
+    if (r) { // the crush is done; its error bar's ladder runs
+      bar.value = r.fraction;
+      barText.textContent = `crush done · pricing the error bar: rung ${r.rung} of ${r.rungs} (n = ${r.n}), ` +
+        `${Math.round(100 * r.fraction)} % of its crush`;
+      return;
+    }
     bar.value = p.fraction;
     barText.textContent = `${Math.round(100 * p.fraction)} % · step ${p.step.toLocaleString()} · ` +
       `${fmt(p.displacement_mm)} mm · ${kN(p.load_n)} · ${seconds(p.elapsed_s)} elapsed, ${seconds(p.eta_s)} to go`;
@@ -223,6 +230,7 @@ export async function renderJob(main, id) {
       const p = JSON.parse(e.data);
       if (typeof p.fraction !== "number") return;
       showProgress(p);
+      if (p.error_bar) return; // a rung of the ladder, not a point of this run's curve
       const n = live[0].length;
       if (n && p.displacement_mm <= live[0][n - 1]) live.forEach((a) => { a.length = 0; }); // a new attempt
       live[0].push(p.displacement_mm);
