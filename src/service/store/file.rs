@@ -41,6 +41,11 @@ fn identity(path: &std::path::Path) -> std::io::Result<Identity> {
 }
 
 impl DbFile {
+    /// The file's path.
+    pub fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+
     /// Records the identity of the file now at `path`.
     pub fn opened(path: PathBuf) -> std::io::Result<DbFile> {
         let identity = identity(&path)?;

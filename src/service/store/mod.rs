@@ -203,13 +203,24 @@ impl Store {
             )));
         };
         let pragmas = backend.connection_pragmas();
+        let file = backend.file().map(|f| f.path().to_path_buf());
         let pool = AnyPoolOptions::new()
             .max_connections(backend.pool_size())
             .acquire_timeout(backend.acquire_timeout())
             .after_connect(move |conn, _| {
+                let file = file.clone();
                 Box::pin(async move {
                     for pragma in pragmas {
                         conn.execute(*pragma).await?;
+                    }
+                    // SQLite opens a file it cannot write read-only, and the connection stays
+                    // so: one made while the disk was read-only counts as made before a
+                    // failure, and is replaced at its next use (`fresh_enough`).
+                    let writable = |f: &std::path::Path| {
+                        std::fs::OpenOptions::new().write(true).open(f).is_ok()
+                    };
+                    if file.as_deref().is_some_and(|f| !writable(f)) {
+                        TROUBLE_AT_NS.store(trouble_clock(), Ordering::Relaxed);
                     }
                     Ok(())
                 })
