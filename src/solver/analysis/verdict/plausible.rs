@@ -28,7 +28,7 @@ pub const LD_MAX: f64 = 50.0;
 /// A geometry outside every tube measured: what is out, and the slip that would explain it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Implausible {
-    /// The figures out of range, each with its range: "t = 0.0032 mm (0.05–50)".
+    /// The figures out of range, each with its range: "t = 0.0032 mm (0.05–50 mm)".
     pub out: Vec<String>,
     /// The likely unit slip, when one brings every figure into range.
     pub slip: Option<Slip>,
@@ -63,14 +63,19 @@ impl Lengths {
     /// Each figure out of its range, with the range.
     fn out(self, w_symbol: &str) -> Vec<String> {
         let mut out = Vec::new();
-        let mut check = |name: String, v: f64, lo: f64, hi: f64| {
+        let mut check = |name: String, v: f64, lo: f64, hi: f64, unit: &str| {
             if !(lo..=hi).contains(&v) {
-                out.push(format!("{name} = {} ({}–{})", sig(v), sig(lo), sig(hi)));
+                out.push(format!(
+                    "{name} = {}{unit} ({}–{}{unit})",
+                    sig(v),
+                    sig(lo),
+                    sig(hi)
+                ));
             }
         };
-        check("t".into(), self.t, T_MIN_MM, T_MAX_MM);
-        check(format!("{w_symbol}/t"), self.w / self.t, DT_MIN, DT_MAX);
-        check(format!("l/{w_symbol}"), self.l / self.w, LD_MIN, LD_MAX);
+        check("t".into(), self.t, T_MIN_MM, T_MAX_MM, " mm");
+        check(format!("{w_symbol}/t"), self.w / self.t, DT_MIN, DT_MAX, "");
+        check(format!("l/{w_symbol}"), self.l / self.w, LD_MIN, LD_MAX, "");
         out
     }
 }
