@@ -4,8 +4,8 @@
 
 use crate::solver::model::geometry::CrossSection;
 
-/// The thinnest wall, mm: half a drinks can's 0.1 mm wall, the thinnest tube crushed in the
-/// literature; the examples' thinnest is 0.76 mm. A thickness in metres typed as mm (3.2 mm as
+/// The thinnest wall, mm: half the 0.1 mm wall of a drinks can, the thinnest tube crushed in
+/// the literature; the examples' thinnest is 0.76 mm. A thickness in metres typed as mm (3.2 mm as
 /// 0.0032) lands a factor 15 or more below it.
 pub const T_MIN_MM: f64 = 0.05;
 /// The thickest, mm: crash-absorber tubes and the steel pipes crushed laterally stay within
@@ -15,11 +15,11 @@ pub const T_MAX_MM: f64 = 50.0;
 /// (1983) crushed tubes down to t/d 0.35 (d/t 2.9); the examples' squattest is 6.9.
 pub const DT_MIN: f64 = 2.5;
 /// The most slender, d/t: Guillow et al. (2001) crushed aluminium tubes up to d/t 450, past
-/// the 10–100 of crash structures; the examples reach 26. A thickness in metres on a diameter
-/// in mm gives thousands.
+/// the 10–100 of crash structures; the examples reach 27 (the square tube's b/t). A thickness
+/// in metres on a diameter in mm gives thousands.
 pub const DT_MAX: f64 = 500.0;
 /// The shortest tube over its width, l/d: a ring sliced for a lateral ring test is a tenth of
-/// its diameter long; the examples are 3.4–7.6. A length in metres gives a thousandth.
+/// its diameter long; the examples are 2–7.6. A length in metres gives a thousandth.
 pub const LD_MIN: f64 = 0.1;
 /// The longest: a column 50 diameters long buckles as a whole long before it folds, and no
 /// crush test uses one; a length in micrometres gives thousands.
