@@ -38,9 +38,14 @@ pub struct RunArgs {
     /// Solver threads [default: all cores].
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Refuse cases with more tube particles than this.
-    #[arg(long, default_value_t = crate::solver::Limits::default().max_particles)]
-    pub max_particles: u64,
+    /// Refuse cases with more tube particles than this [default: the server's, 5000000; none
+    /// with --no-limits].
+    #[arg(long)]
+    pub max_particles: Option<u64>,
+    /// Run a case past the cost limits `crush serve` applies by default (particles, time
+    /// steps, particle-steps; `crush serve --help`), which `crush run` otherwise holds it to.
+    #[arg(long)]
+    pub no_limits: bool,
     /// Price the mean load's error bar after the run (the tube's section at three
     /// resolutions), as the case's `output.error_bar` does.
     #[arg(long)]

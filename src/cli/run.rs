@@ -21,18 +21,47 @@ use std::sync::Arc;
 /// The case file at `path`, checked (no limit but `max_particles`), with its name for messages;
 /// a rejected case prints every field and why.
 pub fn read_case(path: &Path, max_particles: u64) -> anyhow::Result<(Case, String)> {
-    let source = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {source}"))?;
     let limits = Limits {
         max_particles,
         ..Limits::unbounded()
     };
-    match Case::from_json(&text, &limits) {
+    read_case_within(path, &limits, None)
+}
+
+/// The case file at `path`, checked against `limits`; a rejected case prints every field and
+/// why, and `past_limits` after them when the limits alone refuse it (it parses without them).
+fn read_case_within(
+    path: &Path,
+    limits: &Limits,
+    past_limits: Option<&str>,
+) -> anyhow::Result<(Case, String)> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {source}"))?;
+    match Case::from_json(&text, limits) {
         Ok(case) => Ok((case, source)),
         Err(e) => {
             eprintln!("{}", format_case_error(&source, &e));
-            bail!("{source} was rejected");
+            match past_limits {
+                Some(hint) if Case::from_json(&text, &Limits::unbounded()).is_ok() => {
+                    eprintln!("{hint}");
+                    bail!("{source} is past the cost limits");
+                }
+                _ => bail!("{source} was rejected"),
+            }
         }
+    }
+}
+
+/// What `crush run` holds a case to: the server's default cost limits, or with `--no-limits`
+/// none; `--max-particles` either way.
+fn run_limits(args: &RunArgs) -> Limits {
+    let base = match args.no_limits {
+        true => Limits::unbounded(),
+        false => Limits::default(),
+    };
+    Limits {
+        max_particles: args.max_particles.unwrap_or(base.max_particles),
+        ..base
     }
 }
 
@@ -46,7 +75,15 @@ pub fn thread_count(threads: Option<usize>) -> anyhow::Result<usize> {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let (case, source) = read_case(&args.case, args.max_particles)?;
+    let limits = run_limits(&args);
+    let hint = format!(
+        "  past the cost limits (at most {} particles, {} time steps, {:.0e} particle-steps: \
+         `crush serve`'s defaults): check the field named first, or pass --no-limits to run it \
+         anyway",
+        limits.max_particles, limits.max_steps, limits.max_particle_steps as f64
+    );
+    let past_limits = (!args.no_limits).then_some(hint.as_str());
+    let (case, source) = read_case_within(&args.case, &limits, past_limits)?;
     let threads = thread_count(args.threads)?;
     let out_dir = args
         .out

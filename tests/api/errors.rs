@@ -117,16 +117,17 @@ async fn each_class_of_bad_input_gets_its_status_and_a_problem_naming_the_field(
             "{f}: {why} not in {reasons:?}"
         );
     }
-    // 422: too large for this server.
+    // 422: too large for this server, the field that drives the count (n, off its default)
+    // first.
     let big = json!({"discretization": {"particles_through_thickness": 6}});
     let p = problem(c.post(&jobs).json(&big).send().await.unwrap(), 422).await;
     assert_eq!(
         fields(&p),
         vec![
+            "discretization.particles_through_thickness",
             "tube.thickness_mm",
             "tube.mean_diameter_mm",
             "tube.length_mm",
-            "discretization.particles_through_thickness"
         ]
     );
     assert!(p["detail"].as_str().unwrap().contains("20000"), "{p}");
@@ -451,6 +452,47 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     )
     .await;
     assert_eq!(fields(&p), vec!["discretization.model"]);
+}
+
+/// What broke: a thickness in metres typed as millimetres (0.0032 for 3.2 mm) was refused for
+/// its steps with `loading.plate_speed_m_s` named first, and on a server that admits its cost
+/// the estimate called it trusted. The refusal names the thickness first with its value; past
+/// the limits, the estimate is not trusted and names the slip.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_thickness_in_metres_is_refused_naming_it_and_its_estimate_names_the_slip() {
+    let thin =
+        json!({"tube": {"thickness_mm": 0.0032}, "discretization": {"model": "axisymmetric"}});
+    let app = TestApp::start(&["--concurrent-jobs", "0"]).await;
+    let c = &app.client;
+    for route in ["/v1/jobs", "/v1/estimate"] {
+        let r = c.post(app.at(route)).json(&thin).send().await.unwrap();
+        let p = problem(r, 422).await;
+        assert_eq!(fields(&p)[0], "tube.thickness_mm", "{p}");
+        let lead = p["errors"][0]["reason"].as_str().unwrap();
+        assert!(
+            lead.starts_with("0.0032 mm gives 15686990 time steps"),
+            "{p}"
+        );
+    }
+    let roomy = TestApp::start(&[
+        "--concurrent-jobs",
+        "0",
+        "--max-steps",
+        "100000000",
+        "--max-particle-steps",
+        "10000000000000",
+    ])
+    .await;
+    let e = roomy.estimate(&thin).await;
+    assert_eq!(e["verdict"]["level"], "not_trusted", "{e}");
+    let reason = &e["verdict"]["reasons"][0];
+    assert_eq!(reason["rule"], "implausible_geometry", "{e}");
+    assert_eq!(reason["level"], "not_trusted", "{e}");
+    let detail = reason["detail"].as_str().unwrap();
+    assert!(
+        detail.contains("did you mean 3.2 mm (metres typed as millimetres)?"),
+        "{detail}"
+    );
 }
 
 /// What broke: a job stored by an older version whose count had wrapped crashed the server when

@@ -239,3 +239,54 @@ fn estimate_tells_the_cost_and_the_verdict_before_a_run_and_errors_carry_no_back
         assert!(!stderr.contains("backtrace"), "{stderr}");
     }
 }
+
+/// What broke: `crush run` started a case of 381 000 particles and 15.7 M steps (a thickness
+/// in metres typed as millimetres), roughly 316 hours, past every limit the server holds a
+/// case to. It refuses it naming the thickness first; `--no-limits` lifts the server's limits
+/// (and an explicit `--max-particles` still holds).
+#[test]
+fn run_refuses_a_case_past_the_servers_cost_limits_unless_told_no_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("thin.json");
+    std::fs::write(
+        &path,
+        r#"{"tube": {"thickness_mm": 0.0032}, "discretization": {"model": "axisymmetric"}}"#,
+    )
+    .unwrap();
+    let out_dir = dir.path().join("out");
+    let run = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_crush"))
+            .arg("run")
+            .args(extra)
+            .arg("--out")
+            .arg(&out_dir)
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    let first = stderr.lines().nth(1).unwrap_or_default();
+    assert!(
+        first.starts_with("  tube.thickness_mm: 0.0032 mm gives 15686990 time steps"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("pass --no-limits"), "{stderr}");
+    assert!(
+        stderr.trim_end().ends_with("is past the cost limits"),
+        "{stderr}"
+    );
+    assert!(!out_dir.exists(), "a refused case writes nothing");
+
+    // Without the server's limits only the particles asked for hold it back: no step limit.
+    let out = run(&["--no-limits", "--max-particles", "1000"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("particles, more than this runner's limit of 1000"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("time steps, more"), "{stderr}");
+    assert!(!stderr.contains("--no-limits"), "{stderr}");
+}

@@ -353,3 +353,122 @@ fn a_3d_axial_crush_on_linear_shapes_is_caution_for_its_frame_and_on_gimp_or_a_s
         assert_eq!(frame(quiet), [], "{quiet}");
     }
 }
+
+/// What broke: a thickness in metres typed as millimetres (0.0032 for 3.2 mm) made a case of
+/// 381 000 particles and 15.7 M steps that the verdict called trusted.
+#[test]
+fn a_thickness_in_metres_typed_as_millimetres_is_not_trusted_and_the_slip_named() {
+    // Past the default step limit: the server refuses it, `crush estimate` tells its cost.
+    let c = Case::from_json(
+        r#"{"tube": {"thickness_mm": 0.0032}, "discretization": {"model": "axisymmetric"}}"#,
+        &Limits::unbounded(),
+    )
+    .unwrap();
+    let reasons = foreseen(&c);
+    let r = reasons
+        .iter()
+        .find(|r| r.rule == Rule::ImplausibleGeometry)
+        .unwrap_or_else(|| panic!("{reasons:?}"));
+    assert_eq!(r.level, Level::NotTrusted);
+    assert!(
+        r.detail.starts_with("check the tube's units"),
+        "{}",
+        r.detail
+    );
+    assert!(
+        r.detail.contains(
+            "thickness 0.0032 mm = 3.2 µm: did you mean 3.2 mm (metres typed as millimetres)?"
+        ),
+        "{}",
+        r.detail
+    );
+    assert_eq!(Verdict::of(reasons).level, Level::NotTrusted);
+}
+
+#[test]
+fn a_whole_tube_in_metres_an_inch_thickness_and_a_micrometre_length_are_each_named() {
+    let detail = |json: &str| {
+        let reasons = foreseen(&case(json));
+        let r = reasons
+            .into_iter()
+            .find(|r| r.rule == Rule::ImplausibleGeometry)
+            .unwrap_or_else(|| panic!("{json}: not flagged"));
+        (r.level, r.detail)
+    };
+    let (level, metres) = detail(
+        r#"{"tube": {"thickness_mm": 0.0032, "mean_diameter_mm": 0.0222, "length_mm": 0.0762},
+            "loading": {"crush_distance_mm": 0.05}, "discretization": {"model": "axisymmetric"}}"#,
+    );
+    assert_eq!(level, Level::NotTrusted);
+    assert!(
+        metres.contains("did you mean 3.2, 22.2 and 76.2 mm (metres typed as millimetres)?"),
+        "{metres}"
+    );
+    // 0.03 in is 0.762 mm, the examples' thinnest wall give or take.
+    let (level, inches) =
+        detail(r#"{"tube": {"thickness_mm": 0.03}, "discretization": {"model": "axisymmetric"}}"#);
+    assert_eq!(level, Level::Caution);
+    assert!(
+        inches.contains("did you mean 0.762 mm (inches typed as millimetres)?"),
+        "{inches}"
+    );
+    let (level, micrometres) =
+        detail(r#"{"tube": {"length_mm": 76200}, "discretization": {"model": "axisymmetric"}}"#);
+    assert_eq!(level, Level::NotTrusted);
+    assert!(
+        micrometres.contains(
+            "length 76200 mm = 76.2 m: did you mean 76.2 mm (micrometres typed as millimetres)?"
+        ),
+        "{micrometres}"
+    );
+}
+
+/// A tube outside the bounds that no unit slip explains is caution, named by the figure out.
+#[test]
+fn a_geometry_outside_every_tube_measured_without_a_slip_is_caution() {
+    // d/t 600, past Guillow's 450, and l/d 0.05: no one length × 1000, ÷ 1000 or × 25.4
+    // brings both back, and scaling all three changes neither ratio.
+    let c = case(
+        r#"{"tube": {"thickness_mm": 1, "mean_diameter_mm": 600, "length_mm": 30},
+            "loading": {"crush_distance_mm": 20}, "discretization": {"model": "axisymmetric"}}"#,
+    );
+    let reasons = foreseen(&c);
+    let r = reasons
+        .iter()
+        .find(|r| r.rule == Rule::ImplausibleGeometry)
+        .unwrap_or_else(|| panic!("{reasons:?}"));
+    assert_eq!(r.level, Level::Caution, "{}", r.detail);
+    assert!(
+        r.detail.starts_with("check the tube's dimensions"),
+        "{}",
+        r.detail
+    );
+    assert!(
+        r.detail
+            .contains("d/t = 600 (2.5–500), l/d = 0.05 (0.1–50)"),
+        "{}",
+        r.detail
+    );
+}
+
+/// Every example and the default case are tubes the bounds admit.
+#[test]
+fn the_default_case_and_every_example_have_a_plausible_geometry() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut texts = vec![("{}".to_string(), "{}".to_string())];
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            texts.push((path.display().to_string(), text));
+        }
+    }
+    assert!(texts.len() > 7, "{texts:?}");
+    for (name, text) in texts {
+        let reasons = foreseen(&case(&text));
+        assert!(
+            !reasons.iter().any(|r| r.rule == Rule::ImplausibleGeometry),
+            "{name}: {reasons:?}"
+        );
+    }
+}

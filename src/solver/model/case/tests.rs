@@ -707,3 +707,55 @@ fn a_square_tube_prices_its_particles_by_its_sides() {
         refused[0].reason
     );
 }
+
+/// What broke: a thickness in metres typed as millimetres (0.0032) was refused for its steps
+/// with `loading.plate_speed_m_s` named first, the same reason on nine fields.
+#[test]
+fn a_cost_over_its_limit_names_the_field_that_drives_it_first_with_its_value() {
+    let thin = r#"{"tube": {"thickness_mm": 0.0032}, "discretization": {"model": "axisymmetric"}}"#;
+    let errors = rejected_fields(thin, &Limits::default());
+    assert_eq!(errors[0].field, "tube.thickness_mm", "{errors:?}");
+    let lead = &errors[0].reason;
+    assert!(
+        lead.starts_with("0.0032 mm gives 15686990 time steps, more than this runner's limit"),
+        "{lead}"
+    );
+    assert!(
+        lead.contains("at its default, 3.2 mm, they would be 15687"),
+        "{lead}"
+    );
+    // The other fields that set the steps are named once each, briefly.
+    for e in &errors[1..] {
+        assert!(STEP_FIELDS.contains(&e.field.as_str()), "{errors:?}");
+        assert!(
+            e.reason.starts_with("also sets the time steps"),
+            "{errors:?}"
+        );
+    }
+    assert_eq!(errors.len(), STEP_FIELDS.len(), "{errors:?}");
+    // Within the steps, the particle-steps: the thickness again.
+    let limits = Limits {
+        max_steps: u64::MAX,
+        ..Limits::default()
+    };
+    let errors = rejected_fields(thin, &limits);
+    assert_eq!(errors[0].field, "tube.thickness_mm", "{errors:?}");
+    assert!(
+        errors[0]
+            .reason
+            .contains("particle-steps (381000 particles × 15686990 time steps)"),
+        "{errors:?}"
+    );
+    // A crawling plate leads the steps, a long tube the particles.
+    let slow = rejected_fields(
+        r#"{"loading": {"plate_speed_m_s": 0.001}}"#,
+        &Limits::default(),
+    );
+    assert_eq!(slow[0].field, "loading.plate_speed_m_s", "{slow:?}");
+    let long = rejected_fields(
+        r#"{"tube": {"length_mm": 20000}, "loading": {"crush_distance_mm": 10}}"#,
+        &Limits::default(),
+    );
+    assert_eq!(long[0].field, "tube.length_mm", "{long:?}");
+    assert!(long[0].reason.contains("particles"), "{long:?}");
+}
