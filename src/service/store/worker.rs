@@ -42,7 +42,7 @@ pub struct Succeeded<'a> {
 
 /// History rows per INSERT statement (2 + `HistoryRow::COLUMNS.len()` bound values each). The
 /// cost of a statement on SQLite grows faster than its rows: 10 000 rows took 2.1 s in
-/// statements of 500 rows and 0.27 s in statements of 50 (a debug build).
+/// statements of 500 rows and 0.27 s in statements of 50 (the test profile, optimized).
 const HISTORY_CHUNK: usize = 50;
 
 /// History rows per write transaction: short enough that another writer waits at most some tens
@@ -634,7 +634,7 @@ mod tests {
         }
         assert_eq!(finishing.await.unwrap().unwrap(), Some(Status::Succeeded));
         assert_eq!(store.history(j.id).await.unwrap().len(), 100_000);
-        // A batch of rows holds the writer for tens of milliseconds in a debug build; a second
+        // A batch of rows holds the writer for tens of milliseconds in the test profile; a second
         // allows for a loaded machine and is still far below the 3 s health timeout.
         assert!(
             probes > 1,
