@@ -193,6 +193,7 @@ mod tests {
                 kinetic_to_internal: 0.0,
                 verdict: None,
                 error_bar: None,
+                expected_error: None,
                 longest_unloaded_mm: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
                 references: Default::default(),

@@ -87,7 +87,7 @@ fn line(o: &PlanOption) -> String {
         o.shape.name(),
         o.n,
         o.expected_error_percent
-            .map_or("error not known".into(), |e| format!("±{e:.1} %")),
+            .map_or_else(|| o.error_guide.clone(), |e| format!("±{e:.1} %")),
         clock(o.wall_time_s),
         o.shows
     )

@@ -2,10 +2,13 @@
 //! the closed-form references with the ratio of our mean load to the primary one, and the cost.
 
 use crate::solver::analysis::error_bar::ErrorBar;
+use crate::solver::analysis::expected::ExpectedError;
 use crate::solver::analysis::mode::ModeDetail;
-use crate::solver::analysis::reference::{RectangularReferences, References, RoundReferences};
+use crate::solver::analysis::reference::shown::{fitting, Seen};
+use crate::solver::analysis::reference::References;
 use crate::solver::analysis::summary::UNLOADED_FRACTION;
 use crate::solver::analysis::verdict::END_SPREAD_CAUTION;
+use crate::solver::analysis::verdict::{Level, Verdict};
 use crate::solver::model::case::{CrossSection, LoadingMode};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
@@ -47,7 +50,7 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     );
     let _ = writeln!(o);
     if let Some(v) = &s.verdict {
-        let _ = writeln!(o, "  verdict          {}", v.level.name());
+        let _ = writeln!(o, "  verdict          {}", verdict_line(v, s));
         for reason in &v.reasons {
             let _ = writeln!(
                 o,
@@ -101,6 +104,12 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
             let _ = writeln!(o, "  error bar        none: {why}");
         }
         None => {}
+    }
+    if let Some(e) = &s.expected_error {
+        let size = e
+            .percent
+            .map_or_else(|| "none".to_string(), |p| format!("±{p:.1} %"));
+        let _ = writeln!(o, "  expected error   {size}   ({})", e.basis);
     }
     let _ = writeln!(
         o,
@@ -225,42 +234,7 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         100.0 * UNLOADED_FRACTION
     );
     let _ = writeln!(o);
-    let _ = writeln!(
-        o,
-        "references                             load          mean / reference"
-    );
-    let mut line = |name: &str, load: Option<f64>| {
-        let load_text = load.map_or_else(|| "n/a".to_string(), kn);
-        let ratio_text = load.map_or_else(|| "".to_string(), |p| ratio(s.mean_load_n, p));
-        let _ = writeln!(o, "  {name:<36} {load_text:>11}   {ratio_text}");
-    };
-    match r {
-        References::Round(r) => round_lines(r, &mut line),
-        References::Rectangular(r) => rectangular_lines(r, &mut line),
-    }
-    if let References::Rectangular(r) = r {
-        let _ = writeln!(
-            o,
-            "  a fold takes 2H = {:.1} mm of tube and {:.1} mm of crush (Wierzbicki-Abramowicz, \
-             Abramowicz-Jones); flow stress {:.1} MPa",
-            2.0 * r.half_fold_length_mm,
-            r.effective_crush_per_fold_mm,
-            r.flow_stress_mpa
-        );
-    }
-    if let References::Round(r) = r {
-        let m = &r.metal;
-        let _ = writeln!(
-            o,
-            "  (metal forms: flow stress {:.1} MPa = (yield {:.1} + ultimate {:.1})/2, fold wavelength {:.2} mm, strain rate {:.3e} /s, rate factor {:.3})",
-            m.flow_stress_mpa,
-            m.yield_stress_mpa,
-            m.ultimate_stress_mpa,
-            m.fold_wavelength_mm,
-            m.strain_rate_per_s,
-            m.rate_factor
-        );
-    }
+    references_lines(&mut o, case, s);
     let _ = writeln!(o);
     let _ = writeln!(
         o,
@@ -278,49 +252,87 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     o
 }
 
-/// A round tube's references, one `line(name, load)` each.
-fn round_lines(r: &RoundReferences, line: &mut impl FnMut(&str, Option<f64>)) {
-    line("Alexander ring", Some(r.alexander_ring_n));
-    for d in &r.diamond {
-        line(
-            &format!("JSA diamond n={} stationary hinge", d.lobes),
-            Some(d.stationary_n),
-        );
-        line(
-            &format!("JSA diamond n={} travelling hinge", d.lobes),
-            Some(d.travelling_n),
-        );
+/// The verdict's level, and for a trusted run what that holds it to: no rule flagged it, and
+/// the mean load is within its priced error bar, or expected within the measured guide's
+/// error, or no figure bounds it.
+fn verdict_line(v: &Verdict, s: &Summary) -> String {
+    if v.level != Level::Trusted {
+        return v.level.name().to_string();
     }
-    line(
-        "DeRuntz-Hodge lateral, no deflection",
-        Some(r.deruntz_hodge_initial_n),
-    );
-    line("DeRuntz-Hodge lateral, mean over U", r.deruntz_hodge_mean_n);
-    line("Euler, clamped ends", Some(r.euler_clamped_n));
-    let m = &r.metal;
-    line("Abramowicz-Jones, static", Some(m.abramowicz_jones_n));
-    line("Abramowicz-Jones, dynamic", m.abramowicz_jones_dynamic_n);
-    let fit = if m.guillow_in_range {
-        "Guillow 6060-T5 fit, static"
-    } else {
-        "Guillow fit (d/t outside 10-450)"
+    let within = match (&s.error_bar, &s.expected_error) {
+        (Some(ErrorBar::ReducedLadder(l)), _) => format!(
+            "within {:+.1} .. {} % of the converged mean load by its error bar",
+            100.0 * l.error_low,
+            l.error_high
+                .map_or_else(|| "?".to_string(), |e| format!("{:+.1}", 100.0 * e))
+        ),
+        (
+            _,
+            Some(ExpectedError {
+                percent: Some(p), ..
+            }),
+        ) => {
+            format!("expected within ±{p:.1} % of the converged mean load")
+        }
+        _ => "no measured figure bounds its error".into(),
     };
-    line(fit, Some(m.guillow_n));
-    line("Guillow 6060-T5 fit, dynamic", m.guillow_dynamic_n);
+    format!("trusted: no rule flagged it; {within}")
 }
 
-/// A rectangular tube's references, one `line(name, load)` each.
-fn rectangular_lines(r: &RectangularReferences, line: &mut impl FnMut(&str, Option<f64>)) {
-    line("Wierzbicki-Abramowicz", Some(r.wierzbicki_abramowicz_n));
-    line("Abramowicz-Jones, static", Some(r.abramowicz_jones_n));
-    line(
-        &format!(
-            "Abramowicz-Jones, x{:.3} at {:.0}/s",
-            r.rate_factor, r.strain_rate_per_s
-        ),
-        r.abramowicz_jones_dynamic_n,
+/// The closed forms that fit the scene, each with its range, and those left out with why
+/// (`reference::shown`); the rectangular tube's fold length and the round metal tube's flow
+/// stress, rate and fold wavelength where they were shown.
+fn references_lines(o: &mut String, case: &Case, s: &Summary) {
+    let seen = Seen {
+        lobes: match s.mode {
+            CollapseMode::Diamond { lobes } => Some(lobes),
+            _ => None,
+        },
+        buckled: s.mode == CollapseMode::GlobalBuckling,
+    };
+    let f = fitting(case, &s.references, seen);
+    let _ = writeln!(
+        o,
+        " {:<49} {:>11}   {:<9}   holds for",
+        "references that fit this crush", "load", "mean / it"
     );
-    line("Euler, clamped ends", Some(r.euler_clamped_n));
+    for r in &f.shown {
+        let mark = if r.primary { "*" } else { " " };
+        let _ = writeln!(
+            o,
+            " {mark}{:<48} {:>11}   {:<9}   {}",
+            r.name,
+            kn(r.load_n),
+            ratio(s.mean_load_n, r.load_n),
+            r.range
+        );
+    }
+    if f.shown.iter().any(|r| r.primary) {
+        let _ = writeln!(o, "  (* the one the mean load is compared with)");
+    }
+    match &s.references {
+        References::Rectangular(r) if !f.shown.is_empty() => {
+            let _ = writeln!(
+                o,
+                "  a fold takes 2H = {:.1} mm of tube and {:.1} mm of crush (Wierzbicki-Abramowicz, \
+                 Abramowicz-Jones)",
+                2.0 * r.half_fold_length_mm,
+                r.effective_crush_per_fold_mm,
+            );
+        }
+        References::Round(r) if f.shown.iter().any(|x| x.name.starts_with("Abramowicz")) => {
+            let m = &r.metal;
+            let _ = writeln!(
+                o,
+                "  metal forms: fold wavelength 2H {:.2} mm, strain rate {:.3e} /s, rate factor {:.3}",
+                m.fold_wavelength_mm, m.strain_rate_per_s, m.rate_factor
+            );
+        }
+        _ => {}
+    }
+    for l in &f.left_out {
+        let _ = writeln!(o, "  not shown: {}: {}", l.name, l.why);
+    }
 }
 
 /// Every reason a case was rejected, one per line.
@@ -403,6 +415,7 @@ mod tests {
             shape: Some(case.shape_choice().clone()),
             verdict: None,
             error_bar: None,
+            expected_error: None,
         }
     }
 
@@ -456,11 +469,23 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("energy balance   1.23 % error"), "{text}");
-        // A 50 mm axial crush is past d = 22.2 mm: DeRuntz-Hodge's mean does not exist.
-        assert!(
-            text.contains("DeRuntz-Hodge lateral, mean over U           n/a"),
-            "{text}"
-        );
+        // Only the forms of an axial crush of PVC in three lobes; the rest named with why.
+        let alexander = text
+            .lines()
+            .find(|l| l.starts_with(" *Alexander (1960), ring folds "))
+            .expect(&text);
+        assert!(alexander.contains(" 10.571 kN   0.900 "), "{text}");
+        assert!(text.contains("3 lobes, fixed hinges"), "{text}");
+        assert!(!text.contains("2 lobes") && !text.contains("n/a"), "{text}");
+        for why in [
+            "not shown: DeRuntz & Hodge: a lateral crush's",
+            "not shown: Euler, clamped ends: 322 kN, 30 times the folding load",
+            "not shown: Abramowicz & Jones's and Guillow's metal-tube forms: fitted to metal \
+             tubes; this wall's E 3.4 GPa is not a metal's",
+        ] {
+            assert!(text.contains(why), "{why}\n{text}");
+        }
+        assert!(!text.contains("metal forms:"), "{text}");
         assert!(text.contains("cost: 35000 particles, 1000 steps"), "{text}");
         assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
     }
@@ -483,11 +508,14 @@ mod tests {
         let verdict = text.find("  verdict          not_trusted\n").expect(&text);
         assert!(verdict < text.find("mean load").unwrap(), "{text}");
         assert!(
-            text.contains("caution (thin_resolution): 2 particles"),
+            text.contains(
+                "caution (thin_resolution): use 4 or more particles through the wall: with 2"
+            ),
             "{text}"
         );
         assert!(
-            text.contains("not_trusted (energy_balance): the energy books close to 6.0 %"),
+            text.contains("not_trusted (energy_balance): set discretization.cfl")
+                && text.contains("the energy books close to 6.0 %"),
             "{text}"
         );
     }

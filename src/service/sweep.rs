@@ -12,7 +12,7 @@
 
 use crate::solver::model::case::{field_paths, spec_from_value};
 use crate::solver::model::input::{
-    clip, clip_quoted, object, object_from_str, set_field, JsonError,
+    clip, object, object_from_str, set_field, user_message, JsonError,
 };
 use crate::solver::model::spec::whole;
 use crate::solver::{Case, CaseError, FieldError, Limits};
@@ -98,7 +98,7 @@ pub fn read(text: &str) -> Result<SweepRequest, JsonError> {
         let path = e.path().to_string();
         JsonError {
             field: (path != "." && !path.is_empty()).then(|| clip(&path).into_owned()),
-            message: clip_quoted(&e.inner().to_string()),
+            message: user_message(&e.inner().to_string()),
         }
     })?;
     if !req.base.is_object() {

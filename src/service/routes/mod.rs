@@ -20,7 +20,7 @@ use super::guard::{self, Guard};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
-use crate::solver::model::input::{clip, clip_quoted};
+use crate::solver::model::input::{clip, user_message};
 use crate::solver::Limits;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
@@ -155,7 +155,7 @@ async fn problem_everywhere(response: Response) -> Response {
     }
     let (parts, body) = response.into_parts();
     let text = axum::body::to_bytes(body, 4096).await.unwrap_or_default();
-    let detail = clip_quoted(String::from_utf8_lossy(&text).trim());
+    let detail = user_message(String::from_utf8_lossy(&text).trim());
     let error = match status {
         StatusCode::METHOD_NOT_ALLOWED => ApiError::MethodNotAllowed,
         StatusCode::PAYLOAD_TOO_LARGE => ApiError::TooLarge { limit: 0 },

@@ -5,7 +5,7 @@
 use super::{json_text, AppState};
 use crate::service::error::ApiError;
 use crate::service::guard::{Caller, Role, COOKIE};
-use crate::solver::model::input::clip_quoted;
+use crate::solver::model::input::user_message;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Extension, State};
@@ -65,7 +65,7 @@ pub async fn sign_in(
         ApiError::bad_request(
             format!(
                 "a sign-in is {{\"token\": \"…\"}}: {}",
-                clip_quoted(&e.to_string())
+                user_message(&e.to_string())
             ),
             Some("token"),
         )

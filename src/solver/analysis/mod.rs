@@ -8,6 +8,7 @@
 
 pub mod error_bar;
 pub mod estimate;
+pub mod expected;
 pub mod faces;
 pub mod folds;
 pub mod measures;

@@ -3,13 +3,12 @@
 //! discretization error and wall time, and the one to pick. Units: %, s.
 //!
 //! The expected error at n is read off the error-vs-n tables measured on the paper's tube
-//! ([`error_table`], docs/trust.md "Planning a run"); no solver runs, so a plan costs a few
+//! ([`super::expected`], docs/trust.md "Planning a run"), or "no measured guide" in the
+//! option itself where the case is far from the studied tube; no solver runs, so a plan costs a few
 //! case checks and is answered in milliseconds. The wall times are the estimate's, at the
 //! caller's [`Rates`].
 
-mod errors;
-
-pub use errors::{error_table, expected_error_percent, ERROR_BASIS};
+pub use super::expected::{error_table, expected_error_percent, ERROR_BASIS};
 
 use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
@@ -39,9 +38,11 @@ pub struct PlanOption {
     pub particles: u64,
     pub steps: u64,
     /// Expected error of the mean load against the converged value, % (its size, either
-    /// sign); null where there is no basis (linear shape functions do not converge on thin
-    /// walls).
+    /// sign); null where no measured study guides this option (`error_guide` says why).
     pub expected_error_percent: Option<f64>,
+    /// The study the expected error is read from, or "no measured guide: " and why.
+    #[serde(default)]
+    pub error_guide: String,
     /// Expected wall time on the plan's threads, s.
     pub wall_time_s: f64,
     pub wall_time_basis: RateBasis,
@@ -108,17 +109,15 @@ pub fn plan(case: &Case, goal: Goal, threads: u32, rates: &Rates, limits: &Limit
             continue;
         };
         let c = cost(&option, threads, rates);
+        let expected = super::expected::at(&option, model, shape, n);
         options.push(PlanOption {
             model,
             shape,
             n,
             particles: c.particles,
             steps: c.steps,
-            // The error tables were measured on round tubes only.
-            expected_error_percent: match spec.tube.section {
-                Section::Round => expected_error_percent(mode, model, shape, n),
-                Section::Rectangular => None,
-            },
+            expected_error_percent: expected.percent,
+            error_guide: expected.basis,
             wall_time_s: c.wall_time_s,
             wall_time_basis: c.wall_time_basis,
             shows: shows(spec, model, shape),

@@ -18,6 +18,7 @@
 
 pub mod rectangular;
 pub mod shell;
+pub mod shown;
 
 pub use rectangular::RectangularReferences;
 

@@ -2,6 +2,7 @@
 //! balance, collapse mode, the closed-form references and the run's cost. Units: N, mm, mJ, s.
 
 use super::error_bar::ErrorBar;
+use super::expected::{self, ExpectedError};
 use super::folds::count_folds;
 use super::measures::Measures;
 use super::mode::{detect_mode, CollapseMode, ModeDetail};
@@ -63,6 +64,11 @@ pub struct Summary {
     /// when it was not asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_bar: Option<ErrorBar>,
+    /// The error the mean load is expected to carry, from the convergence studies measured
+    /// near this case, or why none guides it ([`super::expected`]): a guide at no cost, beside
+    /// the priced error bar. Absent only from summaries stored before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expected_error: Option<ExpectedError>,
 }
 
 /// The energy books at the end of a run, mJ: the plates' work went to the other terms but the
@@ -144,6 +150,7 @@ pub fn summarize(
         shape: Some(case.shape_choice().clone()),
         verdict: None,
         error_bar: None,
+        expected_error: Some(expected::of_case(case)),
     };
     summary.verdict = Some(verdict::of_run(case, &summary, &mode_detail));
     (summary, mode_detail)

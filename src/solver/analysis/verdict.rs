@@ -166,9 +166,9 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
         reasons.push(Reason {
             rule: Rule::ThinResolution,
             level: Level::NotTrusted,
-            detail: "one particle through the wall cannot bend it: use \
-                     discretization.particles_through_thickness of 2 or more (4 or more for \
-                     a mean load within about 10 %)"
+            detail: "use discretization.particles_through_thickness 2 or more (4 or more for \
+                     a mean load within about 10 %): one particle through the wall cannot \
+                     bend it"
                 .into(),
         });
     } else if n < 4 {
@@ -176,8 +176,8 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
             rule: Rule::ThinResolution,
             level: Level::Caution,
             detail: format!(
-                "{n} particles through the wall: the paper's tube comes out 17–23 % above its \
-                 converged mean load at n = 2–3 (docs/validation.md); use 4 or more"
+                "use 4 or more particles through the wall: with {n}, the paper's tube comes \
+                 out 17–23 % above its converged mean load (docs/trust.md)"
             ),
         });
     }
@@ -189,9 +189,9 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
                 rule: Rule::TooShortToFold,
                 level: Level::Caution,
                 detail: format!(
-                    "the crush ({crush:.3} mm) is shorter than one fold (2H = {fold:.2} mm, \
-                     Alexander's fold length for this wall): its mean load is the first \
-                     collapse's, not the folding load"
+                    "crush further than one fold (2H = {fold:.2} mm, Alexander's fold length \
+                     for this wall) for a folding load: this crush ({crush:.3} mm) gives the \
+                     first collapse's"
                 ),
             });
         }
@@ -211,10 +211,9 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
             reasons.push(Reason {
                 rule: Rule::SeedSensitiveMode,
                 level: Level::Caution,
-                detail: "a thin wall folds in lobes whose number depends on where the \
-                         trigger's weak particles fall (five seeds of the t = 0.76 mm example \
-                         gave 3, 3, global, 2 and 2 lobes): run an ensemble over trigger.seed \
-                         and read the distribution"
+                detail: "run an ensemble over trigger.seed and read the distribution: a \
+                         thin wall's lobe count depends on where the trigger's weak particles \
+                         fall (docs/folding.md)"
                     .into(),
             });
         }
@@ -256,15 +255,13 @@ fn implausible(geometry: &crate::solver::model::geometry::Geometry) -> Option<Re
     })
 }
 
-/// What [`Rule::FrameDependent`] says, with the runs behind it.
-const FRAME_DEPENDENT: &str = "linear shape functions: where the folds start, the mode and the \
-     mean load follow the wall's motion through the grid, not the load alone: the d/t 14 PVC \
-     tube (n 3, platen friction) folds in rings from the moving plate at 17.35 kN, and in a \
-     two-lobe diamond from the fixed one at 14.95 kN when the whole scene moves along the \
-     axis at 5 m/s, the same crush; uGIMP folds it alike in both frames (17.10 and 17.20 kN). \
-     The t 0.76 mm tube folds three lobes from the moving plate at 1.100 kN, and two lobes \
-     from both plates at 0.907 kN in the moving frame (docs/folding.md §4): run with \
-     discretization.shape \"gimp\" to compare";
+/// What [`Rule::FrameDependent`] says. The runs behind it (docs/folding.md §4): the d/t 14
+/// PVC tube (n 3, platen friction) folds in rings from the moving plate at 17.35 kN, and in a
+/// two-lobe diamond from the fixed one at 14.95 kN when the whole scene moves along the axis at
+/// 5 m/s, the same crush; uGIMP folds it alike in both frames (17.10 and 17.20 kN).
+const FRAME_DEPENDENT: &str = "run with discretization.shape \"gimp\" to compare: with linear \
+     shape functions, where the folds start, the mode and the mean load follow the wall's \
+     motion through the grid, not the load alone (docs/folding.md §4)";
 
 /// The longest stretch of plate travel with no load on the plate before a crush is marked
 /// not trusted, mm: the plates close steadily, so a tube in contact carries load all the way;
@@ -302,17 +299,12 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             rule: Rule::OvalisedWall,
             level: Level::Caution,
             detail: format!(
-                "the wall not yet folded went oval beyond what the folds' own ovals leave on an \
-                 elastic tube: {:.2} mm ({:.1} t) more than that at {:.0} mm from the fixed end \
-                 before the crush (over {OVAL_CAUTION_T} t; the folds' two lobes {:.2} mm, \
-                 carried over an e-folding length of {:.0} mm), so the tube did not fold \
-                 progressively with the rest as the folds leave it, and its load is not that \
-                 of a progressive crush (docs/folding.md §6)",
+                "do not quote this mean load as a progressive crush's: the wall not yet folded \
+                 went oval, {:.2} mm ({:.1} t) beyond what the folds' own ovals leave at \
+                 {:.0} mm from the fixed end (over {OVAL_CAUTION_T} t; docs/folding.md §6)",
                 detail.unfolded_excess_two_lobe_mm,
                 detail.unfolded_excess_two_lobe_mm / t,
                 detail.unfolded_excess_two_lobe_at_mm,
-                detail.folds_two_lobe_mm,
-                detail.two_lobe_decay_mm,
             ),
         });
     }
@@ -326,11 +318,10 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             rule: Rule::FlattenedEnd,
             level: Level::Caution,
             detail: format!(
-                "the {end} end spread to {spread:.2} times the tube's radius on its plate (over \
-                 {END_SPREAD_CAUTION}; an end flattened shut reaches π/2 ≈ 1.57): it squashed \
-                 into a pouch instead of folding, so its load is not that of a progressive \
-                 crush; a platen's friction (contact.friction 0.3) holds the end \
-                 (docs/folding.md §3)"
+                "hold the ends with a platen's friction (contact.friction 0.3): the {end} end \
+                 spread to {spread:.2} times the tube's radius on its plate (over \
+                 {END_SPREAD_CAUTION}; flattened shut is π/2 ≈ 1.57), a pouch instead of a \
+                 fold (docs/folding.md §3)"
             ),
         });
     }
@@ -338,9 +329,9 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
         reasons.push(Reason {
             rule: Rule::TippedOver,
             level: Level::NotTrusted,
-            detail: "the tube tipped over: an end left its plate while the tube stayed \
-                straight, a rigid rotation rather than a collapse; its mean load says \
-                nothing of the tube (plates with friction hold the ends: docs/folding.md)"
+            detail: "hold the ends with plates with friction (contact.friction 0.3) and \
+                disregard this load: the tube tipped over, an end left its plate while the \
+                tube stayed straight (docs/folding.md)"
                 .into(),
         });
     }
@@ -349,8 +340,8 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             rule: Rule::Unloaded,
             level: Level::NotTrusted,
             detail: format!(
-                "the load stayed under 1 % of its peak over {:.1} mm of plate travel: the \
-                tube was not held between the plates there",
+                "disregard this load and check how the tube sits on its plates: the load \
+                stayed under 1 % of its peak over {:.1} mm of plate travel",
                 summary.longest_unloaded_mm
             ),
         });
@@ -361,14 +352,13 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             rule: Rule::EnergyBalance,
             level,
             detail: format!(
-                "the energy books close to {:.1} % of the plates' work (over {:.0} % is {}); \
-                 their error is mostly the time step's, first order in it: \
-                 discretization.cfl {} (half the case's) roughly halves it at twice the steps \
-                 (docs/folding.md §5; `crush study step` measures it and the load's share)",
+                "set discretization.cfl {} (half the case's) to roughly halve the error at \
+                 twice the steps: the energy books close to {:.1} % of the plates' work (over \
+                 {:.0} % is {}; docs/folding.md §5, `crush study step` measures it)",
+                0.5 * case.spec().discretization.cfl,
                 100.0 * e,
                 100.0 * over,
                 level.name().replace('_', " "),
-                0.5 * case.spec().discretization.cfl
             ),
         });
     }
@@ -378,8 +368,9 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             rule: Rule::NotQuasiStatic,
             level,
             detail: format!(
-                "kinetic energy reaches {:.0} % of the internal energy in the second half of the \
-                 crush: inertia carries part of the load (slow the plate or lengthen the crush)",
+                "slow the plate or lengthen the crush: kinetic energy reaches {:.0} % of the \
+                 internal energy in the second half of the crush, so inertia carries part of \
+                 the load",
                 100.0 * k
             ),
         });

@@ -154,6 +154,62 @@ where
     de.deserialize_map(ObjectOnly(PhantomData))
 }
 
+/// serde's message about a client's JSON in the client's words, its quotes clipped
+/// ([`clip_quoted`]): "expected a number" for "expected f64", "got the text \"abc\"" for
+/// "invalid type: string \"abc\"", "a list" for "a sequence" ([`in_user_words`]).
+pub fn user_message(serde_message: &str) -> String {
+    in_user_words(&clip_quoted(serde_message))
+}
+
+/// The Rust words of a serde message replaced by a JSON writer's: the type names after
+/// "expected" and "invalid type/value" said as what a JSON value is.
+pub fn in_user_words(message: &str) -> String {
+    const GOT: &[(&str, &str)] = &[
+        ("invalid type: string ", "got the text "),
+        ("invalid type: integer ", "got the whole number "),
+        ("invalid type: floating point ", "got the number "),
+        ("invalid type: boolean ", "got "),
+        ("invalid type: null", "got null"),
+        ("invalid type: sequence", "got a list"),
+        ("invalid type: map", "got an object"),
+        ("invalid value: integer ", "got "),
+        ("invalid value: floating point ", "got "),
+        ("invalid value: string ", "got the text "),
+    ];
+    let mut out = message.to_string();
+    for (rust, user) in GOT {
+        out = out.replace(rust, user);
+    }
+    // "expected <type>": the type is one word (u32) or "struct Name", up to a comma, a space
+    // or the end.
+    let mut said = String::with_capacity(out.len());
+    let mut rest = out.as_str();
+    while let Some(at) = rest.find("expected ") {
+        let (before, after) = rest.split_at(at + "expected ".len());
+        said.push_str(before);
+        let word_end = after.find([',', ' ', ')']).unwrap_or(after.len());
+        let (word, tail) = after.split_at(word_end);
+        let (user, tail) = match word {
+            "f64" | "f32" => ("a number", tail),
+            "u8" | "u16" | "u32" | "u64" | "u128" | "usize" => ("a whole number, 0 or more", tail),
+            "i8" | "i16" | "i32" | "i64" | "i128" | "isize" => ("a whole number", tail),
+            "struct" => {
+                let name_end = tail[1..]
+                    .find([',', ' ', ')'])
+                    .map_or(tail.len(), |i| i + 1);
+                ("an object", &tail[name_end..])
+            }
+            "a" if tail.starts_with(" sequence") => ("a list", &tail[" sequence".len()..]),
+            "a" if tail.starts_with(" map") => ("an object", &tail[" map".len()..]),
+            _ => (word, tail),
+        };
+        said.push_str(user);
+        rest = tail;
+    }
+    said.push_str(rest);
+    said
+}
+
 /// `text` cut to [`ECHO_CHARS`] characters, with "…" where it was cut.
 pub fn clip(text: &str) -> Cow<'_, str> {
     match text.char_indices().nth(ECHO_CHARS) {
@@ -223,6 +279,43 @@ pub fn set_field(case: &mut Value, path: &str, value: Value) -> Result<(), Strin
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn serde_s_rust_words_become_json_words() {
+        for (serde, user) in [
+            (
+                r#"invalid type: string "abc", expected f64"#,
+                r#"got the text "abc", expected a number"#,
+            ),
+            (
+                "invalid type: floating point `2.5`, expected u32",
+                "got the number `2.5`, expected a whole number, 0 or more",
+            ),
+            (
+                "invalid value: integer `-1`, expected u64",
+                "got `-1`, expected a whole number, 0 or more",
+            ),
+            (
+                "invalid type: map, expected a sequence",
+                "got an object, expected a list",
+            ),
+            (
+                "invalid type: sequence, expected struct TubeSpec",
+                "got a list, expected an object",
+            ),
+            (
+                "invalid type: null, expected a boolean",
+                "got null, expected a boolean",
+            ),
+            (
+                "unknown field `x`, expected one of `a`, `b`",
+                "unknown field `x`, expected one of `a`, `b`",
+            ),
+        ] {
+            assert_eq!(in_user_words(serde), user);
+        }
+    }
+
     use super::*;
     use serde_json::json;
 

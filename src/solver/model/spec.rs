@@ -8,7 +8,7 @@
 //! 1450 kg/m³). The material section's own types, its presets and how a preset fills it are
 //! in [`super::material::section`].
 
-use super::input::{clip, clip_quoted, object, object_from_str};
+use super::input::{clip, object, object_from_str, user_message};
 use super::limits::CaseError;
 pub use super::material::section::{
     CurveExtrapolation, HardeningKind, Material, MaterialModel, Preset, RateKind,
@@ -527,7 +527,7 @@ pub fn spec_from_value(value: &Value) -> Result<CaseSpec, CaseError> {
         let path = e.path().to_string();
         CaseError::Malformed {
             field: (path != "." && !path.is_empty()).then(|| clip(&path).into_owned()),
-            message: clip_quoted(&e.inner().to_string()),
+            message: user_message(&e.inner().to_string()),
         }
     })
 }

@@ -9,6 +9,7 @@ fn option(model: Model, n: u32, error: Option<f64>, wall_time_s: f64) -> PlanOpt
         particles: 1,
         steps: 1,
         expected_error_percent: error,
+        error_guide: String::new(),
         wall_time_s,
         wall_time_basis: RateBasis::Assumed,
         shows: String::new(),
@@ -170,4 +171,38 @@ fn a_thin_walls_3d_ugimp_options_warn_of_tipping_over_on_slippery_plates_only() 
     // From HOLDING_FRICTION on the plates hold the ends: no warning.
     assert!(tip(HOLDING_FRICTION).iter().all(|&t| !t));
     assert!(tip(0.3).iter().all(|&t| !t));
+}
+
+/// An aluminium tube of d/t 29 is far from the studied PVC tube: no option quotes an expected
+/// error, each says why in itself, and the plan picks none rather than borrow the PVC figure.
+#[test]
+fn a_case_far_from_the_studies_has_no_measured_guide_in_each_option() {
+    let text = r#"{"material": {"preset": "aa6060_t5"},
+        "tube": {"thickness_mm": 1.67, "mean_diameter_mm": 48.33, "length_mm": 100}}"#;
+    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
+    let p = plan(
+        &case,
+        Goal::TargetErrorPercent(5.0),
+        2,
+        &Rates::assumed(),
+        &Limits::unbounded(),
+    );
+    assert!(!p.options.is_empty());
+    for o in &p.options {
+        assert_eq!(o.expected_error_percent, None, "{o:?}");
+        assert!(o.error_guide.starts_with("no measured guide: "), "{o:?}");
+    }
+    assert!(p.pick.is_none(), "{}", p.reason);
+    // The paper's tube keeps its guide.
+    let paper = plan(
+        &paper_case("3d"),
+        Goal::TargetErrorPercent(5.0),
+        2,
+        &Rates::assumed(),
+        &Limits::unbounded(),
+    );
+    assert!(paper
+        .options
+        .iter()
+        .any(|o| o.expected_error_percent.is_some() && o.error_guide.starts_with("expected")));
 }

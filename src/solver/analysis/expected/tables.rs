@@ -1,4 +1,4 @@
-//! The planner's error model: the size of the mean load's discretization error at n, from the
+//! The error model: the size of the mean load's discretization error at n, from the
 //! convergence studies of the paper's tube (t 3.2 mm, d 22.2 mm, uGIMP), docs/validation.md §1
 //! and §8, restated in docs/trust.md. Units: %.
 
@@ -6,9 +6,9 @@ use crate::solver::model::case::{LoadingMode, Model, ShapeKind};
 
 /// What the expected errors are, said once in every plan.
 pub const ERROR_BASIS: &str = "the error of the mean load measured at each n on the paper's \
-    tube (t 3.2 mm, d 22.2 mm, uGIMP) against its converged value, taken as the guide for \
-    this case (docs/trust.md, Planning a run); linear shape functions have no converged \
-    answer on thin walls, so no expected error";
+    tube (t 3.2 mm, d 22.2 mm, PVC, uGIMP) against its converged value, taken as the guide for \
+    cases near it (docs/trust.md, Planning a run); an option far from it (another section, \
+    material or wall, other shape functions) says \"no measured guide\" and why";
 
 /// Axial crush in 3D: 15.311, 14.576, 13.902, 13.233, 12.715 and 12.591 kN at n = 2, 3, 4, 6, 8
 /// and 10 against the section's converged 12.454 kN.
