@@ -28,7 +28,7 @@ COPY --from=build /src/target/release/crush /usr/local/bin/crush
 USER crush
 WORKDIR /data
 # Every interface of the container: `crush serve` then needs a token file (CRUSH_TOKEN_FILE), or
-# CRUSH_ALLOW_ANONYMOUS_REMOTE=true with the port published on the host's loopback (README, Docker).
+# CRUSH_ALLOW_ANONYMOUS_REMOTE=true with the port published on the host's loopback (docs/operations.md, Docker).
 ENV CRUSH_HOST=0.0.0.0 \
     CRUSH_PORT=8080 \
     DATABASE_URL=sqlite:///data/crush.db

@@ -72,3 +72,44 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::BenchOne(args) => crush::cli::bench_one(args),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::CommandFactory;
+
+    /// Every command and subcommand, as `crush study convergence` (hidden ones too).
+    fn paths(command: &clap::Command, prefix: &str, out: &mut Vec<String>) {
+        for sub in command.get_subcommands() {
+            let path = format!("{prefix} {}", sub.get_name());
+            out.push(path.clone());
+            paths(sub, &path, out);
+        }
+    }
+
+    /// CONTRIBUTING.md lists every command of the binary, each as "- `crush NAME…`".
+    #[test]
+    fn every_subcommand_is_listed_in_contributing() {
+        let text = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("CONTRIBUTING.md"),
+        )
+        .unwrap();
+        let mut all = Vec::new();
+        paths(&Cli::command(), "crush", &mut all);
+        assert!(all.len() >= 12, "{all:?}");
+        let missing: Vec<&String> = all
+            .iter()
+            .filter(|path| {
+                !text.lines().any(|line| {
+                    line.trim_start()
+                        .strip_prefix(&format!("- `{path}"))
+                        .is_some_and(|rest| rest.starts_with('`') || rest.starts_with(' '))
+                })
+            })
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "CONTRIBUTING.md lists no line \"- `COMMAND`: …\" for {missing:?}"
+        );
+    }
+}

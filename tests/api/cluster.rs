@@ -312,9 +312,9 @@ async fn a_node_killed_mid_run_loses_its_job_to_another_that_finishes_it_once_an
     assert!(ran_on_one, "the restarted node took part in the work");
 }
 
-/// `compose.yaml` starts what the README says: PostgreSQL and three crush nodes on it, each
-/// with a name of its own, and one published port. (Docker is not on the test machines, so this
-/// reads the file; it does not start it.)
+/// `compose.yaml` starts what docs/operations.md says: PostgreSQL and three crush nodes on it,
+/// each with a name of its own, and one published port. (Docker is not on the test machines, so
+/// this reads the file; it does not start it.)
 #[test]
 fn compose_starts_postgres_and_three_named_nodes_behind_one_port() {
     let text = std::fs::read_to_string(repo_file("compose.yaml")).unwrap();

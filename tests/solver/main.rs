@@ -1,11 +1,12 @@
 //! The solver and the command line as a user drives them: physics against closed forms
 //! (`physics`), whole crushes (`crush`), the reduced models (`reduced`), the studies
-//! (`studies`), the case parser under generated input (`case_fuzz`) and the CLI (`cli`). One
-//! test binary.
+//! (`studies`), the case parser under generated input (`case_fuzz`), the CLI (`cli`) and the
+//! costs the README's examples state (`readme`). One test binary.
 
 mod case_fuzz;
 mod cli;
 mod crush;
 mod physics;
+mod readme;
 mod reduced;
 mod studies;
