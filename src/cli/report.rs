@@ -61,14 +61,16 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
             );
         }
     }
-    let _ = writeln!(
-        o,
-        "  mean load        {}   ({} x {} {})",
-        kn(s.mean_load_n),
-        ratio(s.mean_load_n, r.primary_n()),
-        r.primary().name(),
-        kn(r.primary_n())
-    );
+    let against = match r.primary_n() {
+        Some(p) => format!(
+            "{} x {} {}",
+            ratio(s.mean_load_n, p),
+            r.primary().name(),
+            kn(p)
+        ),
+        None => "no closed form reaches this crush".into(),
+    };
+    let _ = writeln!(o, "  mean load        {}   ({against})", kn(s.mean_load_n));
     match &s.error_bar {
         Some(ErrorBar::ReducedLadder(l)) => {
             let _ = writeln!(

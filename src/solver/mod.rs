@@ -113,6 +113,10 @@ mod tests {
 
     /// The floors as the module doc states them: the model imports neither the engine nor the
     /// analysis, the engine not the analysis, and no floor the service's or the CLI's crates.
+    /// Every line of code is read, not only `use` lines, so that an inline path upward
+    /// (`crate::solver::engine::x()` in the model) fails it too; comments are skipped, and so
+    /// are tests (a `tests.rs` or `*_tests.rs` file, or what follows `#[cfg(test)]`), which may
+    /// read files and build a scene.
     #[test]
     fn each_floor_imports_only_the_floors_below_it() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/solver");
@@ -133,15 +137,37 @@ mod tests {
             let files = sources(&root.join(floor));
             assert!(!files.is_empty(), "no files in {floor}");
             for (file, text) in files {
-                for line in text.lines().map(str::trim) {
-                    if !(line.starts_with("use ") || line.starts_with("pub use ")) {
-                        continue;
-                    }
+                if file.ends_with("tests.rs") {
+                    continue;
+                }
+                for line in code_lines(&text) {
                     for f in forbidden.iter().chain(&everywhere) {
                         assert!(!line.contains(f), "{file}: `{line}` reaches {f}");
                     }
                 }
             }
         }
+    }
+
+    /// A file's lines of code before its tests, comments and trailing comments cut.
+    fn code_lines(text: &str) -> Vec<&str> {
+        text.lines()
+            .map(str::trim)
+            .take_while(|l| *l != "#[cfg(test)]")
+            .filter(|l| !l.starts_with("//"))
+            .map(|l| l.split("//").next().unwrap_or("").trim())
+            .filter(|l| !l.is_empty())
+            .collect()
+    }
+
+    /// The floor test reads inline paths, not only `use` lines.
+    #[test]
+    fn the_floor_test_sees_an_inline_path() {
+        let text = "fn f() {\n    let s = crate::solver::engine::scene::Scene::new(); // up\n}\n\
+                    #[cfg(test)]\nmod tests { use std::fs; }\n";
+        let lines = code_lines(text);
+        assert!(lines.iter().any(|l| l.contains("engine::")), "{lines:?}");
+        assert!(!lines.iter().any(|l| l.contains("std::fs")), "{lines:?}");
+        assert!(!lines.iter().any(|l| l.contains("// up")), "{lines:?}");
     }
 }

@@ -32,8 +32,9 @@ fn run_on(case: &Case, threads: usize) -> RunOutput {
 /// projection's catch; what is left is numerical (the FLIP/MUSL transfers, leapfrog's step).
 /// Measured on this coarse crush (n = 2, 6 mm): 1.04 % (1.10 % with the remap's plate
 /// projection for the strain only, its catch kept from the particles; 5.4 % with neither the
-/// catch nor the sticking nodes' friction booked, and no start ramp); 2 % allowed. Every row's
-/// residual column is what its other columns say.
+/// catch nor the sticking nodes' friction booked, and no start ramp); 2 % allowed. The plates'
+/// work the solver books from nodal forces times velocities is the load curve's own area, and
+/// what is dissipated (plastic work, friction) never comes back.
 #[test]
 fn energy_balance_closes_within_two_percent_on_a_coarse_crush() {
     let out = run_on(&coarse_axial(), 2);
@@ -46,13 +47,34 @@ fn energy_balance_closes_within_two_percent_on_a_coarse_crush() {
     assert!(last.external_mj > 0.0 && last.plastic_mj > 0.0 && last.friction_mj >= 0.0);
     for r in &out.history {
         assert!(r.values().iter().all(|v| v.is_finite()), "{r:?}");
-        assert_eq!(r.external_mj, r.work_top_mj + r.work_bottom_mj);
-        assert_eq!(r.residual_mj, r.external_mj - r.booked_mj());
-        assert_eq!(r.elastic_mj, r.internal_mj - r.plastic_mj);
     }
-    let e = out.summary.energy;
-    assert_eq!(e.residual_mj, last.external_mj - last.booked_mj());
+    for w in out.history.windows(2) {
+        assert!(
+            w[1].plastic_mj >= w[0].plastic_mj,
+            "plastic work fell: {w:?}"
+        );
+        assert!(w[1].friction_mj >= w[0].friction_mj, "friction fell: {w:?}");
+    }
+    // ∫ P du over the history's rows (trapezoid) against the top plate's booked work.
+    let area: f64 = out
+        .history
+        .windows(2)
+        .map(|w| {
+            0.5 * (w[0].load_top_n + w[1].load_top_n)
+                * (w[1].displacement_mm - w[0].displacement_mm)
+        })
+        .sum();
+    let first = &out.history[0];
+    let booked = last.work_top_mj - first.work_top_mj;
+    assert!(
+        (area / booked - 1.0).abs() < AREA_TOLERANCE,
+        "load curve's area {area} mJ against the plate's booked work {booked} mJ"
+    );
 }
+
+/// How far the trapezoid area of a 60-row load curve may be from the plate's work booked every
+/// step: the rows sample a load that rings between them.
+const AREA_TOLERANCE: f64 = 0.03;
 
 /// The start ramp (`loading.ramp_mm`, default 0.5 mm): the plate comes up to speed instead of
 /// striking the tube at 10 m/s. Measured on the coarse axial crush over 1.5 mm: with the ramp
@@ -80,17 +102,26 @@ fn the_start_ramp_removes_the_impact() {
     assert!(impact[0] > 1.5 * impact[1], "{impact:?}");
 }
 
-/// Folds are counted from the final shape: the coarse crush over 25 mm forms one fold at the
-/// moving plate (its wall turned back on itself, 7.2 mm = 2.3 t out) and a bulge at the fixed
-/// plate (4.1 mm = 1.3 t out, its wall not turned), while its load curve drops twice.
+/// Folds are counted from the final shape: a crush of 25 mm takes at least one of Alexander's
+/// folds (2H = 16.1 mm of tube, of which a fold crushes at most all) and at most as many as
+/// fit at Abramowicz & Jones's effective crush of 0.73 · 2H per fold, rounded up; each fold
+/// drops the load at least once, so the curve shows as many drops as the shape shows folds
+/// or more (the coarse crush: one fold and a bulge at the fixed plate, two drops).
 #[test]
-fn folds_are_counted_from_the_shape_not_the_load_curve() {
+fn folds_are_counted_from_the_shape_within_what_the_crush_can_fold() {
     let c = case(
         r#"{"discretization": {"particles_through_thickness": 2},
              "loading": {"crush_distance_mm": 25}, "output": {"history_points": 250}}"#,
     );
     let s = run_on(&c, 2).summary;
-    assert_eq!((s.folds, s.load_drops), (1, 2), "{s:?}");
+    let fold = crush::solver::analysis::verdict::fold_length_mm(&c);
+    let most = (25.0 / (0.73 * fold)).ceil() as u32;
+    assert!(
+        (1..=most).contains(&s.folds),
+        "{} folds, at most {most}: {s:?}",
+        s.folds
+    );
+    assert!(s.load_drops >= s.folds, "{s:?}");
 }
 
 /// The mean load of a crush must lie between two physical limits: below, 0.8 × Alexander's

@@ -138,7 +138,7 @@ fn report(
                 pct(Some(r.peak_error_vs_finest)),
                 pct(r.mean_error_vs_richardson),
                 pct(r.peak_error_vs_richardson),
-                pct(Some(r.mean_vs_reference)),
+                pct(r.mean_vs_reference),
             );
         }
         write_extrapolations(
@@ -230,7 +230,7 @@ fn write_csv(
                 format!("{:.6}", r.peak_error_vs_finest),
                 opt(r.mean_error_vs_richardson),
                 opt(r.peak_error_vs_richardson),
-                format!("{:.6}", r.mean_vs_reference),
+                opt(r.mean_vs_reference),
             ])?;
         }
     }

@@ -96,12 +96,15 @@ impl References {
         }
     }
 
-    /// Value of [`References::primary`], N (0 if it does not exist).
-    pub fn primary_n(&self) -> f64 {
+    /// Value of [`References::primary`], N; `None` where the form does not reach this case (a
+    /// lateral crush to the diameter, where DeRuntz & Hodge's load ends; a rectangular tube
+    /// crushed laterally). A summary stored with 0 there reads as `None` too.
+    pub fn primary_n(&self) -> Option<f64> {
         match self {
             References::Round(r) => r.primary_n,
             References::Rectangular(r) => r.primary_n,
         }
+        .filter(|p| *p > 0.0)
     }
 }
 
@@ -123,8 +126,9 @@ pub struct RoundReferences {
     pub metal: MetalTube,
     /// The reference a report compares the run's mean load with.
     pub primary: Primary,
-    /// Value of `primary`, N (NaN-free: 0 if it does not exist).
-    pub primary_n: f64,
+    /// Value of `primary`, N; null where it does not reach the case (a lateral crush to the
+    /// diameter): no number stands in for a load the formula does not give.
+    pub primary_n: Option<f64>,
 }
 
 /// Every reference load for `case`, from its cross-section.
@@ -165,11 +169,8 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
         spec.material.rate != crate::solver::model::spec::RateKind::None,
     );
     let (primary, primary_n) = match geometry.mode {
-        LoadingMode::Axial => (Primary::AlexanderRing, alexander_ring_n),
-        LoadingMode::Lateral => (
-            Primary::DeruntzHodgeMean,
-            deruntz_hodge_mean_n.unwrap_or(0.0),
-        ),
+        LoadingMode::Axial => (Primary::AlexanderRing, Some(alexander_ring_n)),
+        LoadingMode::Lateral => (Primary::DeruntzHodgeMean, deruntz_hodge_mean_n),
     };
     RoundReferences {
         alexander_ring_n,
@@ -467,7 +468,7 @@ mod tests {
         let axial = Case::from_json("{}", &Limits::default()).unwrap();
         let r = round_of(&axial);
         assert_eq!(r.primary, Primary::AlexanderRing);
-        assert_eq!(r.primary_n, r.alexander_ring_n);
+        assert_eq!(r.primary_n, Some(r.alexander_ring_n));
         assert_eq!(
             r.diamond.iter().map(|d| d.lobes).collect::<Vec<_>>(),
             vec![2, 3, 4, 5]
@@ -479,6 +480,13 @@ mod tests {
             Case::from_json(r#"{"loading": {"mode": "lateral"}}"#, &Limits::default()).unwrap();
         let r = round_of(&lateral);
         assert_eq!(r.primary, Primary::DeruntzHodgeMean);
-        close(r.primary_n, 6_401.8, 1e-4);
+        close(r.primary_n.unwrap(), 6_401.8, 1e-4);
+        // Crushed to past the diameter, DeRuntz & Hodge's mean does not exist: none stands in.
+        let flat = Case::from_json(
+            r#"{"loading": {"mode": "lateral", "crush_distance_mm": 22.2}}"#,
+            &Limits::default(),
+        )
+        .unwrap();
+        assert_eq!(references(&flat).primary_n(), None);
     }
 }

@@ -487,7 +487,8 @@ mod tests {
             (back.mode, back.folds, back.references.primary()),
             (s.mode, s.folds, s.references.primary())
         );
-        assert!((back.references.primary_n() / s.references.primary_n() - 1.0).abs() < 1e-15);
+        let (back_n, n) = (back.references.primary_n(), s.references.primary_n());
+        assert!((back_n.unwrap() / n.unwrap() - 1.0).abs() < 1e-15);
     }
 
     fn case(json: &str) -> Case {

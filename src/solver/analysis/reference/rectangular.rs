@@ -63,8 +63,8 @@ pub struct RectangularReferences {
     pub euler_clamped_n: f64,
     /// The reference a report compares the run's mean load with.
     pub primary: Primary,
-    /// Value of `primary`, N (0 if it does not exist).
-    pub primary_n: f64,
+    /// Value of `primary`, N; null where no closed form covers the loading (lateral).
+    pub primary_n: Option<f64>,
 }
 
 /// The closed forms of `case`, whose cross-section is `section`.
@@ -85,8 +85,8 @@ pub fn references(case: &Case, section: &Rectangle) -> RectangularReferences {
         4.0 * PI * PI * spec.material.youngs_modulus_mpa * section.least_second_moment_mm4()
             / (l * l);
     let (primary, primary_n) = match case.geometry().mode {
-        LoadingMode::Axial => (Primary::AbramowiczJones, aj * factor),
-        LoadingMode::Lateral => (Primary::Unavailable, 0.0),
+        LoadingMode::Axial => (Primary::AbramowiczJones, Some(aj * factor)),
+        LoadingMode::Lateral => (Primary::Unavailable, None),
     };
     RectangularReferences {
         mean_side_mm: c,
@@ -155,12 +155,12 @@ mod tests {
         };
         close(r.abramowicz_jones_n, 6_194.3, 1e-4);
         assert_eq!(r.primary, Primary::AbramowiczJones);
-        assert_eq!(r.primary_n, r.abramowicz_jones_n);
+        assert_eq!(r.primary_n, Some(r.abramowicz_jones_n));
         // 0.33 · 10 m/s / 50 mm = 66 /s; PVC has no rate dependence.
         close(r.strain_rate_per_s, 66.0, 1e-12);
         assert_eq!((r.rate_factor, r.abramowicz_jones_dynamic_n), (1.0, None));
         close(r.effective_crush_per_fold_mm, 0.73 * 2.0 * 15.381, 1e-4);
-        assert!(r.euler_clamped_n > 10.0 * r.primary_n, "{r:?}");
+        assert!(r.euler_clamped_n > 10.0 * r.primary_n.unwrap(), "{r:?}");
 
         let rectangle = Case::from_json(
             r#"{"tube": {"section": "rectangular", "side_a_mm": 40, "side_b_mm": 60,
@@ -173,7 +173,7 @@ mod tests {
             panic!("a rectangular case has rectangular references")
         };
         assert_eq!(r.mean_side_mm, 50.0);
-        assert_eq!((r.primary, r.primary_n), (Primary::Unavailable, 0.0));
+        assert_eq!((r.primary, r.primary_n), (Primary::Unavailable, None));
     }
 
     /// A hardening wall's square forms take (σy + σu)/2: stainless 304's Swift law necks at

@@ -532,3 +532,58 @@ fn every_reason_starts_with_what_to_do_and_stays_a_sentence() {
         assert!(words <= 50, "{:?} has {words} words: {}", r.rule, r.detail);
     }
 }
+
+/// Every rule and level, listed once; the match fails to compile when a variant is added
+/// without being listed here.
+fn every_rule_and_level() -> (Vec<Rule>, Vec<Level>) {
+    let rules = vec![
+        Rule::ImplausibleGeometry,
+        Rule::ThinResolution,
+        Rule::EnergyBalance,
+        Rule::NotQuasiStatic,
+        Rule::TooShortToFold,
+        Rule::SeedSensitiveMode,
+        Rule::Unstable,
+        Rule::TippedOver,
+        Rule::Unloaded,
+        Rule::OvalisedWall,
+        Rule::FlattenedEnd,
+        Rule::FrameDependent,
+    ];
+    for r in &rules {
+        match r {
+            Rule::ImplausibleGeometry
+            | Rule::ThinResolution
+            | Rule::EnergyBalance
+            | Rule::NotQuasiStatic
+            | Rule::TooShortToFold
+            | Rule::SeedSensitiveMode
+            | Rule::Unstable
+            | Rule::TippedOver
+            | Rule::Unloaded
+            | Rule::OvalisedWall
+            | Rule::FlattenedEnd
+            | Rule::FrameDependent => {}
+        }
+    }
+    let levels = vec![Level::Trusted, Level::Caution, Level::NotTrusted];
+    for l in &levels {
+        match l {
+            Level::Trusted | Level::Caution | Level::NotTrusted => {}
+        }
+    }
+    (rules, levels)
+}
+
+/// `name()` is what the JSON says: the text a report prints and a client matches on are the
+/// same word for every rule and level.
+#[test]
+fn every_rule_s_and_level_s_name_is_its_json_spelling() {
+    let (rules, levels) = every_rule_and_level();
+    for r in rules {
+        assert_eq!(serde_json::to_value(r).unwrap(), r.name(), "{r:?}");
+    }
+    for l in levels {
+        assert_eq!(serde_json::to_value(l).unwrap(), l.name(), "{l:?}");
+    }
+}
