@@ -29,36 +29,39 @@ function ticks(lo, hi, n) {
   return out;
 }
 
-/// The overlay as an SVG document: axes with round ticks, one line per job, a legend.
+/// The overlay as an SVG document: axes with round ticks, one line per job, and a legend under
+/// the plot (inside it, it would hide some job's curve).
 function overlaySvg(names, curves) {
-  const [W, H, L, R, T, B] = [900, 560, 70, 20, 20, 60];
+  const [W, L, R, T, B, ROW] = [900, 70, 20, 20, 60, 18];
+  const H = 560 + ROW * names.length + 10;
+  const bottom = 560; // of the plot and its axis labels
   const pts = curves.flat();
   const xs = pts.map((p) => p[0]);
   const ys = pts.map((p) => p[1]);
   const [x0, x1] = [Math.min(0, ...xs), Math.max(...xs)];
   const [y0, y1] = [Math.min(0, ...ys), Math.max(...ys) * 1.05];
   const sx = (x) => L + ((x - x0) / (x1 - x0 || 1)) * (W - L - R);
-  const sy = (y) => H - B - ((y - y0) / (y1 - y0 || 1)) * (H - T - B);
+  const sy = (y) => bottom - B - ((y - y0) / (y1 - y0 || 1)) * (bottom - T - B);
   const esc = (s) => String(s).replace(/[<>&"]/g, (c) => ({ "<": "&lt;", ">": "&gt;", "&": "&amp;", '"': "&quot;" })[c]);
   const out = [`<svg xmlns="http://www.w3.org/2000/svg" width="${W}" height="${H}" viewBox="0 0 ${W} ${H}" font-family="sans-serif" font-size="13">`,
     `<rect width="${W}" height="${H}" fill="white"/>`];
   for (const x of ticks(x0, x1, 8)) {
-    out.push(`<line x1="${sx(x)}" y1="${T}" x2="${sx(x)}" y2="${H - B}" stroke="#e3e6eb"/>`,
-      `<text x="${sx(x)}" y="${H - B + 18}" text-anchor="middle">${fmt(x)}</text>`);
+    out.push(`<line x1="${sx(x)}" y1="${T}" x2="${sx(x)}" y2="${bottom - B}" stroke="#e3e6eb"/>`,
+      `<text x="${sx(x)}" y="${bottom - B + 18}" text-anchor="middle">${fmt(x)}</text>`);
   }
   for (const y of ticks(y0, y1, 6)) {
     out.push(`<line x1="${L}" y1="${sy(y)}" x2="${W - R}" y2="${sy(y)}" stroke="#e3e6eb"/>`,
       `<text x="${L - 8}" y="${sy(y) + 4}" text-anchor="end">${fmt(y)}</text>`);
   }
-  out.push(`<rect x="${L}" y="${T}" width="${W - L - R}" height="${H - T - B}" fill="none" stroke="#888"/>`,
-    `<text x="${(L + W - R) / 2}" y="${H - 14}" text-anchor="middle">plate travel, mm</text>`,
-    `<text transform="translate(18 ${(T + H - B) / 2}) rotate(-90)" text-anchor="middle">load on the moving plate, kN</text>`);
+  out.push(`<rect x="${L}" y="${T}" width="${W - L - R}" height="${bottom - T - B}" fill="none" stroke="#888"/>`,
+    `<text x="${(L + W - R) / 2}" y="${bottom - 14}" text-anchor="middle">plate travel, mm</text>`,
+    `<text transform="translate(18 ${(T + bottom - B) / 2}) rotate(-90)" text-anchor="middle">load on the moving plate, kN</text>`);
   curves.forEach((c, i) => {
     const line = c.map(([x, y]) => `${sx(x).toFixed(1)},${sy(y).toFixed(1)}`).join(" ");
     out.push(`<polyline fill="none" stroke="${colour(i)}" stroke-width="2" points="${line}"/>`);
-    const ly = T + 14 + 18 * i;
-    out.push(`<line x1="${W - R - 250}" y1="${ly - 4}" x2="${W - R - 226}" y2="${ly - 4}" stroke="${colour(i)}" stroke-width="3"/>`,
-      `<text x="${W - R - 220}" y="${ly}">${esc(names[i])}</text>`);
+    const ly = bottom + ROW * (i + 1);
+    out.push(`<line class="legend" x1="${L}" y1="${ly - 4}" x2="${L + 24}" y2="${ly - 4}" stroke="${colour(i)}" stroke-width="3"/>`,
+      `<text class="legend" x="${L + 30}" y="${ly}">${esc(names[i])}</text>`);
   });
   out.push("</svg>");
   return out.join("\n") + "\n";

@@ -28,13 +28,19 @@ function inputFor(f) {
   if (f.kind === "text") {
     return el("input", { ...common, type: "text", maxlength: "200", value: f.default || "" });
   }
+  // A text box with a numeric keyboard, not type="number": a number box empties itself on
+  // letters, so a typo would vanish instead of being named beside the field.
   return el("input", {
-    ...common, type: "number", step: f.kind === "integer" ? "1" : "any",
-    min: f.min, max: f.max, required: !f.optional,
+    ...common, type: "text", inputmode: f.kind === "integer" ? "numeric" : "decimal", autocomplete: "off",
+    "data-kind": f.kind, required: !f.optional,
     value: f.default === null || f.default === undefined ? "" : String(f.default),
     placeholder: f.optional ? "auto" : null,
   });
 }
+
+/// A decimal number as a case writes it: digits, an optional point and exponent ("2", "-0.5",
+/// "1e-3"); not hexadecimal, "Infinity" or a blank, which `Number` would also read.
+const DECIMAL = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
 
 /// What the browser can tell about one field on its own; "" when nothing is wrong.
 function clientCheck(f, input) {
@@ -43,7 +49,7 @@ function clientCheck(f, input) {
   if (f.kind === "text") return raw.length > 200 ? "must be at most 200 characters" : "";
   if (raw === "") return f.optional ? "" : "is required";
   const v = Number(raw);
-  if (!Number.isFinite(v) || input.validity.badInput) return "must be a number";
+  if (!DECIMAL.test(raw) || !Number.isFinite(v)) return "not a number";
   if (f.kind === "integer" && !Number.isInteger(v)) return "must be an integer";
   if (f.min !== undefined && (f.min_exclusive ? v <= f.min : v < f.min)) {
     return `must be ${f.min_exclusive ? ">" : ">="} ${f.min}`;

@@ -1,5 +1,5 @@
 // crush web page: one job — live load curve, summary against the closed-form references, the case, the deformed tube, downloads; run it again or delete it.
-import { api, el, fmt, isLive, jobName, kN, lineChart, modeName, onLeave, pct, seconds, verdictBox } from "./util.js";
+import { align, api, colour, el, fmt, isLive, jobName, kN, levelSeries, lineChart, localTime, markSeries, modeName, onLeave, pct, seconds, verdictBox } from "./util.js";
 import { loadFields } from "./form.js";
 import { refreshJobList } from "./list.js";
 
@@ -108,36 +108,74 @@ function referenceTable(s, lateral) {
 /// The form's field list, for the defaults of what a case leaves out.
 let fields = [];
 
-/// The shape functions a case names, or what the code chose when it left them out.
-function shapeText(named, summary) {
+/// The shape functions a case names, or what the code chose (or will choose: `estimated`, from
+/// POST /v1/estimate while the job waits or runs) when it left them out.
+function shapeText(named, summary, estimated) {
   if (named !== null && named !== undefined) return named;
-  const chosen = summary && summary.shape && summary.shape.kind;
+  const chosen = (summary && summary.shape && summary.shape.kind) || estimated;
   return chosen ? `${chosen}, chosen by the code` : "chosen by the code";
 }
 
-/// The case's main numbers, defaults filled in from the form's field list; `summary` (once the
-/// job succeeded) says which shape functions the code chose for a case that left them out.
-function caseTable(c, summary) {
-  const value = (field) => {
+/// How far the plates travel when a case leaves `loading.crush_distance_mm` out, mm (the
+/// field's help says the same).
+const DEFAULT_CRUSH_MM = { axial: 50, lateral: 12.5 };
+
+/// Material presets by name, as an engineer writes them.
+const PRESET_NAMES = { pvc: "PVC", aa6060_t5: "AA6060-T5", aa6061_t6: "AA6061-T6", mild_steel: "mild steel", stainless_304: "stainless steel 304" };
+const presetName = (p) => PRESET_NAMES[p] || p.replaceAll("_", " ");
+
+/// The material in words: the preset the case names, else the preset whose values it has
+/// (the default material is the paper's PVC), else "custom".
+function materialName(c, value) {
+  const named = c.material && c.material.preset;
+  if (named) return `${presetName(named)} (preset)`;
+  const material = fields.filter((f) => f.field.startsWith("material.") && f.presets);
+  const names = [...new Set(material.flatMap((f) => Object.keys(f.presets)))];
+  const same = names.find((p) => material.every((f) => !(p in f.presets) || f.presets[p] === value(f.field)));
+  return same ? presetName(same) : "custom";
+}
+
+/// The case's main numbers, each as the case gives it or, where it leaves one out, the value
+/// the server uses, said to be the default; `summary` (once the job succeeded) or `estimated`
+/// says which shape functions the code chose for a case that left them out.
+function caseTable(c, summary, estimated) {
+  const given = (field) => {
     let v = c;
     for (const p of field.split(".")) v = v === undefined || v === null ? undefined : v[p];
+    return v === null ? undefined : v;
+  };
+  // A material field a case leaves out comes from its preset, else from the default material.
+  const preset = given("material.preset");
+  const value = (field) => {
+    const v = given(field);
     if (v !== undefined) return v;
     const f = fields.find((x) => x.field === field);
+    if (f && preset && f.presets && preset in f.presets) return f.presets[preset];
     return f ? f.default : undefined;
   };
+  const orDefault = (field, unit) => given(field) !== undefined ? `${given(field)}${unit}` : `${value(field)}${unit} (default)`;
+  const mode = value("loading.mode");
+  const distance = given("loading.crush_distance_mm") !== undefined
+    ? `${given("loading.crush_distance_mm")} mm`
+    : (DEFAULT_CRUSH_MM[mode] === undefined ? "the default distance" : `${DEFAULT_CRUSH_MM[mode]} mm (default)`);
+  const density = value("material.density_kg_m3");
   const rows = [
     value("tube.section") === "rectangular"
       ? ["Tube t × a × b × l, corner r", `${value("tube.thickness_mm")} × ${value("tube.side_a_mm")} × ` +
         `${value("tube.side_b_mm") ?? value("tube.side_a_mm")} × ${value("tube.length_mm")} mm, ` +
         `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`]
       : ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
-    ["Material", `E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, σy ${value("material.yield_stress_mpa")} MPa`],
-    ["Loading", `${value("loading.mode")}, ${value("loading.plate_speed_m_s")} m/s, ` +
-      (value("loading.crush_distance_mm") === null || value("loading.crush_distance_mm") === undefined ? "default distance" : `${value("loading.crush_distance_mm")} mm`)],
-    ["Particles through the wall", `${value("discretization.particles_through_thickness")} (${shapeText(value("discretization.shape"), summary)})`],
+    ["Material", el("span", { id: "material-name" }, materialName(c, value)),
+      `: ${value("material.model")}, E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, ` +
+      `σy ${value("material.yield_stress_mpa")} MPa` + (density === undefined ? "" : `, ρ ${density} kg/m³`)],
+    ["Loading", `${mode}, ${value("loading.plate_speed_m_s")} m/s`],
+    ["Crush distance", el("span", { id: "crush-distance" }, distance)],
+    ["Particles through the wall n", el("span", { id: "case-n" }, orDefault("discretization.particles_through_thickness", ""))],
+    ["Shape functions", shapeText(given("discretization.shape"), summary, estimated)],
+    ["Model", orDefault("discretization.model", "")],
     ["Trigger", `${value("trigger.weak_fraction")} weak`],
   ];
-  return el("table", { id: "case-table" }, el("tbody", {}, rows.map(([k, v]) => el("tr", {}, el("th", {}, k), el("td", {}, v)))));
+  return el("table", { id: "case-table" }, el("tbody", {}, rows.map(([k, ...v]) => el("tr", {}, el("th", {}, k), el("td", {}, ...v)))));
 }
 
 export async function renderJob(main, id) {
@@ -153,7 +191,7 @@ export async function renderJob(main, id) {
     if (!c.ok) barText.textContent = c.data.detail;
   } }, "Cancel");
   const chartBox = el("div", { class: "chart", id: "curve" });
-  const side = el("div", { id: "job-side" });
+  const side = el("div", { id: "job-side", class: "panels" });
   const below = el("div", { id: "job-below" });
   const note = el("span", { id: "job-action-note", class: "small" });
   // The same case again, as a new job (its label and every field as submitted).
@@ -176,14 +214,21 @@ export async function renderJob(main, id) {
     el("div", { class: "job-head" }, el("h1", {}, jobName(job)), status, bar, barText, isLive(job.status) ? cancel : null,
       job.case ? rerun : null, deletable() ? remove : null,
       el("a", { href: `#/new/${job.id}`, id: "reuse", class: "small" }, "new case from this one"), note),
-    el("p", { class: "muted small" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted ${job.created_at}` +
-      (job.node ? ` · node ${job.node}` : ""),
+    el("p", { class: "muted small", id: "job-meta" }, `job ${job.id} · ${job.particles.toLocaleString()} particles · submitted `,
+      localTime(job.created_at), job.node ? ` · node ${job.node}` : "",
       job.sweep_id ? el("span", {}, " · ", el("a", { href: `#/sweeps/${job.sweep_id}` }, "its sweep")) : null),
-    el("div", { class: "grid2" }, el("div", {}, el("h2", {}, "Load against plate travel"), chartBox), side),
-    below);
-  side.replaceChildren(el("h2", {}, "Case"), caseTable(job.case || {}, job.summary));
-  const { set } = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
-  const live = [[], [], []]; // the fixed plate's load comes with the stored history only
+    el("h2", {}, "Load against plate travel"), chartBox, side, below);
+  side.replaceChildren(el("div", {}, el("h2", {}, "Case"), caseTable(job.case || {}, job.summary)));
+  // While it waits or runs, the estimate says which shape functions the code will choose.
+  if (isLive(job.status) && job.case && !(job.case.discretization && job.case.discretization.shape)) {
+    api("POST", "/v1/estimate", job.case).then((e) => {
+      const table = document.getElementById("case-table");
+      if (e.ok && e.data.shape && table && isLive(job.status)) table.replaceWith(caseTable(job.case, null, e.data.shape.kind));
+    });
+  }
+  const live = lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names: ["moving plate, kN", "fixed plate, kN"] });
+  const set = live.set;
+  const points = [[], [], []]; // the fixed plate's load comes with the stored history only
   let redraw = null;
   let ended = false;
   onLeave(() => clearTimeout(redraw));
@@ -212,10 +257,10 @@ export async function renderJob(main, id) {
     if (job.status === "succeeded") {
       bar.value = 1;
       barText.textContent = "done";
-      await showResult(job, set, side, below);
+      await showResult(job, live, chartBox, side, below);
     } else {
       barText.textContent = job.error || job.status;
-      if (job.verdict) side.prepend(el("h2", {}, "Verdict"), verdictBox(job.verdict, "verdict"));
+      if (job.verdict) side.prepend(el("div", {}, el("h2", {}, "Verdict"), verdictBox(job.verdict, "verdict")));
     }
   };
   if (isLive(job.status)) {
@@ -231,13 +276,13 @@ export async function renderJob(main, id) {
       if (typeof p.fraction !== "number") return;
       showProgress(p);
       if (p.error_bar) return; // a rung of the ladder, not a point of this run's curve
-      const n = live[0].length;
-      if (n && p.displacement_mm <= live[0][n - 1]) live.forEach((a) => { a.length = 0; }); // a new attempt
-      live[0].push(p.displacement_mm);
-      live[1].push(p.load_n / 1000);
-      live[2].push(null);
+      const n = points[0].length;
+      if (n && p.displacement_mm <= points[0][n - 1]) points.forEach((a) => { a.length = 0; }); // a new attempt
+      points[0].push(p.displacement_mm);
+      points[1].push(p.load_n / 1000);
+      points[2].push(null);
       // Redraw at most four times a second, whatever the history's resolution.
-      if (!redraw && !ended) redraw = setTimeout(() => { redraw = null; set(live); }, 250);
+      if (!redraw && !ended) redraw = setTimeout(() => { redraw = null; set(points); }, 250);
     });
     for (const end of ["done", "failed", "cancelled"]) {
       es.addEventListener(end, () => { es.close(); finish(); });
@@ -258,24 +303,45 @@ export async function renderJob(main, id) {
   }
 }
 
-async function showResult(job, set, side, below) {
+/// The finished run's load curve: both plates, the mean load as a dashed line across it and the
+/// first collapse peak marked (each named in the legend, with its value).
+function resultChart(chartBox, h, s) {
+  const u = h.data.columns.indexOf("displacement_mm");
+  const p = h.data.columns.indexOf("load_top_n");
+  const b = h.data.columns.indexOf("load_bottom_n");
+  const rows = h.data.rows;
+  const names = ["moving plate, kN", "fixed plate, kN"];
+  const curves = [rows.map((r) => [r[u], r[p] / 1000]), rows.map((r) => [r[u], r[b] / 1000])];
+  if (s.mean_load_n != null && rows.length) {
+    names.push(levelSeries(`mean load ${kN(s.mean_load_n)}`));
+    curves.push([[rows[0][u], s.mean_load_n / 1000], [rows[rows.length - 1][u], s.mean_load_n / 1000]]);
+  }
+  if (s.first_peak_load_n != null) {
+    names.push(markSeries(`first peak ${kN(s.first_peak_load_n)} at ${fmt(s.first_peak_displacement_mm)} mm`, colour(names.length)));
+    curves.push([[s.first_peak_displacement_mm, s.first_peak_load_n / 1000]]);
+  }
+  chartBox.replaceChildren();
+  lineChart(chartBox, { xLabel: "plate travel, mm", yLabel: "load, kN", names }).set(align(curves));
+}
+
+async function showResult(job, live, chartBox, side, below) {
+  const s = job.summary;
   const h = await api("GET", `/v1/jobs/${job.id}/history`);
   if (h.ok) {
-    const u = h.data.columns.indexOf("displacement_mm");
-    const p = h.data.columns.indexOf("load_top_n");
-    const b = h.data.columns.indexOf("load_bottom_n");
-    set([h.data.rows.map((r) => r[u]), h.data.rows.map((r) => r[p] / 1000), h.data.rows.map((r) => r[b] / 1000)]);
+    live.chart.destroy();
+    resultChart(chartBox, h, s);
   }
-  const s = job.summary;
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
-  side.replaceChildren(el("h2", {}, "Verdict"), verdictBox(job.verdict || s.verdict, "verdict") ||
-    el("p", { class: "small muted", id: "verdict" }, "This result was stored before there were verdicts."),
-  el("h2", {}, "Summary"), summaryTable(s), el("h2", {}, "Energy books"), energyTable(s),
-    el("h2", {}, "Against closed-form references"),
-    referenceTable(s, lateral),
-    el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
-      lateral ? "" : " Diamond loads are Johnson's travelling-hinge form."),
-    el("h2", {}, "Case"), caseTable(job.case || {}, s));
+  side.replaceChildren(
+    el("div", {}, el("h2", {}, "Verdict"), verdictBox(job.verdict || s.verdict, "verdict") ||
+      el("p", { class: "small muted", id: "verdict" }, "This result was stored before there were verdicts."),
+    el("h2", {}, "Summary"), summaryTable(s)),
+    el("div", {}, el("h2", {}, "Case"), caseTable(job.case || {}, s),
+      el("h2", {}, "Energy books"), energyTable(s),
+      el("h2", {}, "Against closed-form references"),
+      referenceTable(s, lateral),
+      el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
+        lateral ? "" : " Diamond loads are Johnson's travelling-hinge form.")));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);
   const keepsSeries = Boolean(job.case && job.case.output && job.case.output.frames > 0);
   const energyBox = el("div", { class: "chart", id: "energy-curve" });
@@ -295,6 +361,7 @@ async function showResult(job, set, side, below) {
     el("p", { class: "downloads" },
       el("a", { href: job.links.history + "?format=csv", download: `${job.id}-history.csv` }, "history (CSV)"),
       el("a", { href: job.links.summary, download: `${job.id}-summary.json` }, "summary (JSON)"),
+      keepsState ? el("a", { href: job.links.shape, download: `${job.id}-shape.png`, id: "shape-png" }, "deformed tube (PNG)") : null,
       keepsState ? el("a", { href: job.links.state, download: `${job.id}.vtu` }, "final particle state (VTU, ParaView)") : null,
       keepsSeries ? el("a", { href: job.links.self + "/series.tar", download: `${job.id}-series.tar` }, "time series (series.pvd and frames, tar, ParaView)") : null,
       el("a", { href: job.links.plot, download: `${job.id}-load.svg` }, "load curve (SVG)")),

@@ -1,7 +1,7 @@
 // crush web page: the side lists — jobs newest first, with their counts per state, a live
 // progress bar per running job (SSE) and boxes to pick jobs for an overlay; sweeps newest first
 // with their jobs' states; one label search for both.
-import { api, el, jobName, kN, picked, setPicked, short, sweepValues } from "./util.js";
+import { api, el, isLive, jobName, kN, localTime, picked, setPicked, short, sweepValues } from "./util.js";
 
 const STATES = ["queued", "running", "succeeded", "failed", "cancelled"];
 /// Most jobs one overlay draws (the palette's colours).
@@ -12,11 +12,15 @@ export const MAX_PICKED = 10;
 const listStreams = new Map(); // job id → EventSource, for at most MAX_LIST_STREAMS running jobs
 const MAX_LIST_STREAMS = 3;
 
-function progressCell(job) {
-  const f = job.status === "succeeded" ? 1 : (job.progress && job.progress.fraction) || 0;
+/// A job's state, and while it waits or runs how far it has got (the list stays narrow enough
+/// beside the page that labels keep their room).
+function statusCell(job) {
+  const badge = el("span", { class: "badge " + job.status }, job.status);
+  if (!isLive(job.status)) return el("td", {}, badge);
+  const f = (job.progress && job.progress.fraction) || 0;
   const bar = el("progress", { max: "1", value: String(f), "data-job": job.id });
   const label = el("span", { class: "small muted", "data-job-pct": job.id }, " " + Math.round(100 * f) + " %");
-  return el("td", { class: "progress-cell" }, bar, label);
+  return el("td", { class: "progress-cell" }, badge, el("div", {}, bar, label));
 }
 
 function setListProgress(id, fraction) {
@@ -86,8 +90,7 @@ export async function refreshJobList() {
     el("td", { class: "name" }, el("a", { href: `#/jobs/${j.id}`, title: `${jobName(j)} — ${j.id}` }, j.label || j.id.slice(0, 8)),
       j.sweep_id ? el("div", { class: "small" }, el("a", { href: `#/sweeps/${j.sweep_id}` }, "sweep"),
         " · " + sweepValues(j)) : null),
-    el("td", {}, el("span", { class: "badge " + j.status }, j.status)),
-    progressCell(j),
+    statusCell(j),
     el("td", { class: "num" }, j.summary ? kN(j.summary.mean_load_n) : "–"))));
   updatePicked();
   // One stream per running job (a few at most), so the bars move between refreshes.
@@ -126,7 +129,7 @@ export async function refreshSweepList() {
     el("td", { class: "name" }, el("a", { href: `#/sweeps/${s.id}` }, s.label || s.id.slice(0, 8))),
     el("td", {}, s.parameters.map((p) => `${short(p[0])} × ${p[1].length}`).join(", ")),
     el("td", { class: "small" }, STATES.filter((st) => s.counts[st]).map((st) => `${s.counts[st]} ${st}`).join(" · ")),
-    el("td", { class: "small muted" }, s.created_at.slice(0, 16).replace("T", " ")))));
+    el("td", { class: "small muted" }, localTime(s.created_at)))));
 }
 
 // ---------- the side: tabs, search, refresh ----------

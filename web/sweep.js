@@ -1,5 +1,5 @@
-// crush web page: a sweep — its runs' load curves overlaid, its table, for a resolution sweep the convergence view (error against run time), and for a sweep over trigger seeds the ensemble's distribution.
-import { align, api, columnLabel, el, fmt, isLive, kN, lineChart, modeName, onLeave, pct, seconds, short, verdictName } from "./util.js";
+// crush web page: a sweep — its runs' load curves overlaid, its table (and the server's CSV of it), for a resolution sweep the convergence view (error against run time), and for a sweep over trigger seeds the ensemble's distribution.
+import { align, api, columnLabel, el, fieldValue, fmt, isLive, kN, lineChart, localTime, modeName, onLeave, pct, seconds, verdictName } from "./util.js";
 import { refreshSweepList } from "./list.js";
 
 // ---------- sweep view (and convergence) ----------
@@ -30,6 +30,16 @@ function cell(column, value) {
   return el("td", { class: "num" }, typeof value === "number" ? fmt(value) : String(value));
 }
 
+/// The columns an engineer compares runs by, first after the job and what the sweep varies, so
+/// that they show without scrolling; the rest (cost, checks, reasons) follow in the server's order.
+const FIRST_COLUMNS = ["status", "mean_load_n", "first_peak_load_n", "crush_force_efficiency",
+  "specific_energy_absorption_j_per_g", "peak_load_n", "energy_absorbed_mj", "mode", "verdict"];
+
+function tableOrder(columns, varied) {
+  const first = ["job_id", ...varied, ...FIRST_COLUMNS].filter((c) => columns.includes(c));
+  return first.concat(columns.filter((c) => !first.includes(c)));
+}
+
 export async function renderSweep(main, id) {
   const first = await api("GET", `/v1/sweeps/${id}`);
   if (!first.ok) { main.replaceChildren(el("h1", {}, "Sweep not found"), el("p", {}, first.data && first.data.detail)); return; }
@@ -50,11 +60,14 @@ export async function renderSweep(main, id) {
     const r = await api("DELETE", `/v1/sweeps/${id}`);
     if (r.ok) { location.hash = "#/"; refreshSweepList(); } else note.textContent = r.data.detail;
   } }, "Delete sweep");
+  // The table as the server writes it (GET /v1/sweeps/{id}?format=csv), every column.
+  const csv = el("a", { href: `/v1/sweeps/${id}?format=csv`, download: `${id}-sweep.csv`, id: "sweep-csv", class: "button secondary" }, "Table as CSV");
   main.replaceChildren(
     el("div", { class: "job-head" }, el("h1", {}, first.data.label || `Sweep ${id.slice(0, 8)}`), countsText, remove, note),
-    el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id}`),
-    el("h2", {}, "Load curves"), curveBox, ensBox, el("h2", {}, "Runs"), tableBox, convBox);
-  const rowName = (row) => fields.map((f) => `${short(f)} = ${row[f]}`).join(", ");
+    el("p", { class: "muted small" }, `varies ${fields.join(", ")} · sweep ${id} · made `, localTime(first.data.created_at)),
+    el("h2", {}, "Load curves"), curveBox, ensBox,
+    el("div", { class: "section-head" }, el("h2", {}, "Runs"), csv), tableBox, convBox);
+  const rowName = (row) => fields.map((f) => fieldValue(f, row[f])).join(", ");
   let chart = null;
   let drawn = "";
   let convChart = null;
@@ -65,9 +78,10 @@ export async function renderSweep(main, id) {
     const v = r.data;
     if (v.ensemble) renderEnsemble(ensBox, v.ensemble);
     countsText.textContent = Object.entries(v.counts).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(" · ");
+    const columns = tableOrder(v.columns, fields);
     tableBox.replaceChildren(el("div", { class: "scroll" }, el("table", {},
-      el("thead", {}, el("tr", {}, v.columns.map((c) => el("th", { title: c }, columnLabel(c))))),
-      el("tbody", {}, v.rows.map((row) => el("tr", {}, v.columns.map((c) => cell(c, row[c]))))))));
+      el("thead", {}, el("tr", {}, columns.map((c) => el("th", { title: c, "data-column": c }, columnLabel(c))))),
+      el("tbody", {}, v.rows.map((row) => el("tr", {}, columns.map((c) => cell(c, row[c]))))))));
     const done = v.rows.filter((row) => row.status === "succeeded");
     const key = done.map((row) => row.job_id).join();
     if (key && key !== drawn) {

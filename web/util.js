@@ -107,20 +107,44 @@ const SHORT = {
   "tube.length_mm": "l", "loading.plate_speed_m_s": "v", "contact.friction": "μ",
 };
 export const short = (f) => SHORT[f] || f.split(".").pop();
-export const sweepValues = (j) => Object.entries(j.sweep_values || {}).map(([f, v]) => `${short(f)} = ${v}`).join(", ");
+// A case field's unit, read off its name as the case spells units (`tube.thickness_mm`: mm);
+// "" for a count or a ratio.
+const FIELD_UNITS = [["_m_s", "m/s"], ["_mpa", "MPa"], ["_mm", "mm"], ["_kg_m3", "kg/m³"], ["_per_s", "1/s"]];
+export const fieldUnit = (f) => (FIELD_UNITS.find(([suffix]) => f.endsWith(suffix)) || ["", ""])[1];
+// A swept field's value as a sweep names its runs: "t = 2 mm", "n = 3".
+export const fieldValue = (f, v) => `${short(f)} = ${v}${fieldUnit(f) ? " " + fieldUnit(f) : ""}`;
+export const sweepValues = (j) => Object.entries(j.sweep_values || {}).map(([f, v]) => fieldValue(f, v)).join(", ");
 export const jobName = (j) => {
   const name = j.label || j.id.slice(0, 8);
   return j.sweep_values ? `${name} (${sweepValues(j)})` : name;
 };
 export const isLive = (status) => status === "queued" || status === "running";
 
+// A server timestamp (RFC 3339, UTC) in the browser's local time with its offset from UTC,
+// "2026-11-29 01:08 UTC+5:30": read against the lab's clock, and unambiguous when pasted into a
+// log or sent to another site. Absolute rather than relative ("3 min ago"), which would go
+// stale on a page that is not redrawn. The UTC original is the element's tooltip.
+export function localTime(iso) {
+  const t = new Date(iso);
+  if (!iso || Number.isNaN(t.getTime())) return el("time", {}, iso || "–");
+  const two = (n) => String(n).padStart(2, "0");
+  const east = -t.getTimezoneOffset();
+  const zone = east === 0 ? "UTC"
+    : `UTC${east > 0 ? "+" : "−"}${Math.floor(Math.abs(east) / 60)}${Math.abs(east) % 60 ? ":" + two(Math.abs(east) % 60) : ""}`;
+  const text = `${t.getFullYear()}-${two(t.getMonth() + 1)}-${two(t.getDate())} ${two(t.getHours())}:${two(t.getMinutes())} ${zone}`;
+  return el("time", { datetime: iso, title: `${iso} (UTC)` }, text);
+}
+
 // A sweep-table column as a header: its name without the unit suffix, and the unit the cell
 // shows (loads in kN, energies in J, as the cells are written).
-const COLUMN_UNITS = [["_m_s", "m/s"], ["_mpa", "MPa"], ["_mm", "mm"], ["_mj", "J"], ["_n", "kN"], ["_s", ""]];
+const COLUMN_UNITS = [["_m_s", "m/s"], ["_mpa", "MPa"], ["_mm", "mm"], ["_mj", "J"], ["_j_per_g", "J/g"], ["_g", "g"], ["_n", "kN"], ["_s", ""]];
+const COLUMN_NAMES = {
+  job_id: "job", mean_vs_reference: "mean / reference − 1", particle_steps_per_s: "particle-steps/s",
+  first_peak_load_n: "first peak, kN", crush_force_efficiency: "CFE",
+  specific_energy_absorption_j_per_g: "SEA, J/g", mean_load_after_first_peak_n: "mean after first peak, kN",
+};
 export function columnLabel(c) {
-  if (c === "job_id") return "job";
-  if (c === "mean_vs_reference") return "mean / reference − 1";
-  if (c === "particle_steps_per_s") return "particle-steps/s";
+  if (COLUMN_NAMES[c]) return COLUMN_NAMES[c];
   const unit = COLUMN_UNITS.find(([suffix]) => c.endsWith(suffix));
   const bare = c.includes(".") ? short(c)
     : (unit ? c.slice(0, -unit[0].length) : c).replaceAll("_", " ");
@@ -163,17 +187,26 @@ function themed() {
   return { stroke: fg, grid: { stroke: grid, width: 1 }, ticks: { stroke: grid, width: 1 } };
 }
 
+/// A dashed horizontal line, as a series of `lineChart` (its data: the level at the first and
+/// last x, nulls between).
+export const levelSeries = (label) => ({ label, dash: [8, 5], width: 1.5 });
+/// One marked point, as a series of `lineChart` (its data: null but at the point).
+export const markSeries = (label, fill) => ({ label, paths: () => null, points: { show: true, size: 11, width: 2, fill } });
+
+/// A uPlot line chart filling `container`'s width; `names` are the series' labels, or their
+/// uPlot options (see `levelSeries`, `markSeries`). Its legend sits below the plot, where it
+/// hides no part of a curve.
 export function lineChart(container, { xLabel, yLabel, names, log }) {
   // As wide as its box (a phone's too), never wider: the page must not scroll sideways.
   const width = Math.max(200, container.clientWidth || 600);
   const axis = themed();
   const opts = {
-    width, height: width < 500 ? 240 : 320,
+    width, height: width < 500 ? 240 : Math.min(420, Math.round(width * 0.5)),
     scales: { x: { time: false, distr: log ? 3 : 1 }, y: { distr: log ? 3 : 1 } },
     axes: [{ label: xLabel, ...axis }, { label: yLabel, ...axis }],
     series: [{ label: xLabel }].concat(names.map((n, i) => ({
-      label: n, stroke: colour(i), width: 2, spanGaps: true,
-      points: { show: log },
+      stroke: colour(i), width: 2, spanGaps: true, points: { show: log },
+      ...(typeof n === "string" ? { label: n } : n),
     }))),
     legend: { live: false },
   };

@@ -1,8 +1,9 @@
 //! The page's lists and views in a real browser (headless Chromium through ChromeDriver,
 //! against the real server on port 0): the job list's label search and counts per state, the
 //! list of sweeps, jobs picked from a sweep and from outside it overlaid (and the overlay
-//! downloaded as CSV and SVG), a job run again and deleted, the case table of a job that left
-//! the shape functions to the code, the sweep table's headers and the cost of a whole sweep in
+//! downloaded as CSV and SVG, its legend under the curves), a job run again and deleted, the case
+//! table of a job that left the shape functions to the code, the sweep table's headers, its
+//! curves and jobs named by value and unit, and the cost of a whole sweep in
 //! the form; then the page with the system in dark mode, and every view at a phone's width
 //! without sideways scrolling. Screenshots go where `tests/browser.rs` puts them.
 //!
@@ -216,6 +217,15 @@ async fn the_page_searches_lists_sweeps_overlays_reruns_and_deletes() {
         "{heads:?}"
     );
     assert_eq!(rows(&c, "sweep-table").await, 2);
+    // The sweep's curves are named by the value each ran at, with its unit.
+    let names = until(
+        &c,
+        "const s = [...document.querySelectorAll('#sweep-curves .u-legend .u-series')].map(e => e.textContent);          return s.length === 2 ? s : null;",
+        LONG,
+        "the sweep's curves",
+    )
+    .await;
+    assert_eq!(names, json!(["t = 2 mm", "t = 3.2 mm"]));
 
     // Pick two jobs outside the sweep and one of it, and overlay them.
     click(&c, "#tab-jobs").await;
@@ -227,6 +237,16 @@ async fn the_page_searches_lists_sweeps_overlays_reruns_and_deletes() {
         "all jobs again",
     )
     .await;
+    // A sweep's job in the list says its value with the unit.
+    let listed = js(
+        &c,
+        "return document.querySelector('#job-list tbody').textContent;",
+    )
+    .await;
+    assert!(
+        listed.as_str().unwrap().contains("sweep · t = 3.2 mm"),
+        "{listed}"
+    );
     let sweep_job = get_json(&app.client, &app.at(&format!("/v1/sweeps/{sweep}"))).await["rows"][0]
         ["job_id"]
         .as_str()
@@ -263,6 +283,26 @@ async fn the_page_searches_lists_sweeps_overlays_reruns_and_deletes() {
         "{svg}"
     );
     assert_eq!(svg.matches("<polyline").count(), 3, "{svg}");
+    // Its legend lies under the plot, below every point of every curve.
+    let lowest = svg
+        .split("points=\"")
+        .skip(1)
+        .flat_map(|p| p[..p.find('"').unwrap()].split_whitespace())
+        .map(|xy| xy.split_once(',').unwrap().1.parse::<f64>().unwrap())
+        .fold(f64::MIN, f64::max);
+    let legend: Vec<f64> = svg
+        .split("<text class=\"legend\"")
+        .skip(1)
+        .map(|t| {
+            let y = t.split(" y=\"").nth(1).unwrap();
+            y[..y.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    assert_eq!(legend.len(), 3, "{svg}");
+    assert!(
+        legend.iter().all(|y| *y > lowest + 20.0),
+        "legend at {legend:?}, curves down to {lowest}"
+    );
     shot(&c, &shots, "10-overlay").await;
 
     // A job that left the shape functions to the code says which it got, never "null".

@@ -11,7 +11,7 @@ use axum::Json;
 const JS: &str = "text/javascript; charset=utf-8";
 
 /// (name, content type, bytes) of every asset: the page's modules (`app.js` imports the rest),
-/// its stylesheet, and uPlot.
+/// its stylesheet, its icon, and uPlot.
 const ASSETS: &[(&str, &str, &str)] = &[
     ("app.js", JS, include_str!("../../../web/app.js")),
     ("util.js", JS, include_str!("../../../web/util.js")),
@@ -24,6 +24,11 @@ const ASSETS: &[(&str, &str, &str)] = &[
         "app.css",
         "text/css; charset=utf-8",
         include_str!("../../../web/app.css"),
+    ),
+    (
+        "favicon.svg",
+        "image/svg+xml",
+        include_str!("../../../web/favicon.svg"),
     ),
     (
         "uplot.min.js",
