@@ -129,11 +129,15 @@ function showSection() {
   }
 }
 
+/// The case the form says: only the fields the user set (typed, picked, or filled from a job),
+/// so that what is left out takes the server's default, or the chosen material preset's value
+/// rather than the default shown before the preset was picked.
 function readCase() {
   const c = {};
   for (const f of FIELDS) {
     if (!applies(f)) continue;
     const input = document.getElementById(fieldId(f.field));
+    if (input.dataset.set !== "yes") continue;
     let v;
     if (f.kind === "boolean") v = input.checked;
     else if (f.kind === "choice") { v = input.value; if (!v) continue; }
@@ -342,6 +346,8 @@ export async function renderForm(main, fromJob) {
     form);
   form.addEventListener("input", (e) => {
     const name = e.target.dataset.field;
+    if (name) e.target.dataset.set = "yes";
+    if (name === "material.preset") showPreset(e.target.value);
     const f = name && FIELDS.find((x) => x.field === name);
     if (f) {
       const message = clientCheck(f, e.target);
@@ -350,11 +356,28 @@ export async function renderForm(main, fromJob) {
     if (name === "tube.section") showSection();
     scheduleEstimate();
   });
-  form.addEventListener("change", (e) => { if (e.target.dataset.field === "tube.section") showSection(); });
+  form.addEventListener("change", (e) => {
+    const name = e.target.dataset.field;
+    if (name) e.target.dataset.set = "yes";
+    if (name === "tube.section") showSection();
+    if (name === "material.preset") { showPreset(e.target.value); scheduleEstimate(); }
+  });
   form.addEventListener("submit", submitForm);
   if (fromJob) await fillFromJob(fromJob);
   showSection();
   scheduleEstimate();
+}
+
+/// Shows in each material field the user has not set the value `preset` fills in (its own
+/// default where the preset leaves the field to it); those fields stay unsent.
+function showPreset(preset) {
+  for (const f of FIELDS) {
+    if (!f.field.startsWith("material.") || f.field === "material.preset") continue;
+    const input = document.getElementById(fieldId(f.field));
+    if (!input || input.dataset.set === "yes" || f.kind === "boolean") continue;
+    const v = preset && f.presets && f.presets[preset] !== undefined ? f.presets[preset] : f.default;
+    input.value = v === null || v === undefined ? "" : String(v);
+  }
 }
 
 /// Fills the form with a job's case as submitted; what it left out keeps its default.
@@ -369,7 +392,10 @@ async function fillFromJob(id) {
     const input = document.getElementById(fieldId(f.field));
     if (f.kind === "boolean") input.checked = v === true;
     else input.value = v === null ? "" : String(v);
+    input.dataset.set = "yes";
   }
+  const preset = document.getElementById(fieldId("material.preset"));
+  if (preset) showPreset(preset.value);
   document.querySelector("main h1").textContent = `New crush case, from ${r.data.label || id.slice(0, 8)}`;
 }
 

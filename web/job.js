@@ -10,6 +10,8 @@ function summaryTable(s) {
     ["Mean collapse load", kN(s.mean_load_n)],
     ...(s.error_bar ? [["Error bar (mean load)", errorBarText(s.error_bar)]] : []),
     ...(s.error_bar && s.error_bar.first_peak ? [["Error bar (first peak)", peakBarText(s.error_bar.first_peak)]] : []),
+    ...(s.expected_error ? [["Expected error (mean load)", el("span", { id: "expected-error", title: s.expected_error.basis },
+      s.expected_error.percent == null ? s.expected_error.basis : `±${s.expected_error.percent.toFixed(1)} % (${s.expected_error.basis})`)]] : []),
     ["Peak load (largest, whole crush)", kN(s.peak_load_n)],
     ["First collapse peak", s.first_peak_load_n == null ? "– (the load never drops)" : `${kN(s.first_peak_load_n)} at ${fmt(s.first_peak_displacement_mm)} mm`],
     ["Mean load after it", s.mean_load_after_first_peak_n == null ? "–" : kN(s.mean_load_after_first_peak_n)],

@@ -138,6 +138,18 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     js(&c, "window.scrollTo(0, 0); return true;").await;
     shot(&c, &shots, "2-form-errors").await;
 
+    // A preset shows its own values in the material fields, and the form sends none of them:
+    // a preset picked over the PVC values shown before ran PVC.
+    let pick = |preset: &str| {
+        format!(
+            "const s = document.getElementById('f-material-preset'); s.value = '{preset}'; \
+             s.dispatchEvent(new Event('change', {{bubbles: true}})); \
+             return document.getElementById('f-material-youngs_modulus_mpa').value;"
+        )
+    };
+    assert_eq!(js(&c, &pick("mild_steel")).await, "210000");
+    assert_eq!(js(&c, &pick("")).await, "3378.4");
+
     // A small case: submit, watch the progress bar move, see the curve and the tube.
     fill(
         &c,
@@ -216,6 +228,10 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     assert_eq!(case, json!(["2", "24 mm", "PVC"]));
     // The time it was submitted, in the browser's zone, not the server's UTC.
     let job_id = js(&c, "return location.hash.split('/').pop();").await;
+    // The case stored is what the user set, not every default the form showed.
+    let stored = app.job(job_id.as_str().unwrap()).await["case"].clone();
+    assert!(stored.get("material").is_none(), "{stored}");
+    assert_eq!(stored["tube"]["length_mm"].as_f64(), Some(40.0), "{stored}");
     let created = app.job(job_id.as_str().unwrap()).await["created_at"].clone();
     let shown = js(
         &c,
@@ -282,6 +298,19 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     .await;
     let summary = js(&c, "return document.getElementById('summary').textContent;").await;
     assert!(summary.as_str().unwrap().contains("kN"), "{summary}");
+    // The expected error beside the numbers: the paper's tube at n = 2 reads its study.
+    let expected = js(
+        &c,
+        "return document.getElementById('expected-error').textContent;",
+    )
+    .await;
+    assert!(
+        expected
+            .as_str()
+            .unwrap()
+            .starts_with("±22.9 % (expected, not priced"),
+        "{expected}"
+    );
     // The verdict beside the numbers: a badge of the job's level and its thin-wall reason.
     let job_id = js(&c, "return location.hash.split('/').pop();").await;
     let served = crate::common::get_json(

@@ -409,7 +409,7 @@ impl Convergence {
             put("peak_error_vs_finest", Some(r.peak_error_vs_finest));
             put("mean_error_vs_richardson", r.mean_error_vs_richardson);
             put("peak_error_vs_richardson", r.peak_error_vs_richardson);
-            put("mean_vs_reference", Some(r.mean_vs_reference));
+            put("mean_vs_reference", r.mean_vs_reference);
         }
     }
 }
