@@ -176,7 +176,7 @@ pub fn thread_gain(model: Model, threads: u32) -> f64 {
 /// model: a metal's law evaluates its flow stress for every particle, a particle at a time, and
 /// iterates for each yielding one. One law (a hardening or a rate law) 0.7, or 0.6 with
 /// Cowper–Symonds' rate (0.5 in a section); with both a hardening and a rate law, 0.85 of that.
-/// Measured with `python3 scripts/rates.py --shapes gimp --crush-mm 1 --repeats 1` (its case:
+/// Measured on the cases `python3 scripts/rates.py --shapes gimp --crush-mm 1` runs (its case:
 /// the AA6060 tube of t 1.67, d 48.33 at l 20 in 3D, n 3, 29 448 particles, about 2 000 steps),
 /// one thread, the laws run in turn on a 2-core machine shared with other builds (load average
 /// 3): over `aa6060_t5`'s 2.63 M particle-steps/s (PVC's 2.75 M), Ludwik alone 0.72, Swift alone
