@@ -6,7 +6,7 @@
 
 use super::progress::clock;
 use super::run::{read_case, thread_count};
-use crate::solver::analysis::rates::{RateSample, Rates};
+use crate::solver::analysis::rates::{LawKind, RateSample, Rates};
 use crate::solver::{estimate_with, Case, Limits, Runner};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -71,7 +71,10 @@ fn measure(runner: &Runner, case: &Case, samples: &mut Vec<RateSample>) -> anyho
         RateSample {
             model: case.spec().discretization.model,
             shape: case.shape(),
-            particle_steps_per_s: cost.particle_steps_per_s,
+            law: LawKind::of(&case.spec().material),
+            particles: cost.particles,
+            steps: cost.steps,
+            wall_time_s: cost.wall_time_s,
             threads: cost.threads,
         },
     );

@@ -1,6 +1,6 @@
 //! What a case will cost before it runs: particles, cells, steps, memory, wall time.
 
-use super::rates::{RateBasis, Rates};
+use super::rates::{LawKind, RateBasis, Rates};
 use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
 use crate::solver::model::ladder::rungs;
@@ -146,7 +146,8 @@ pub(super) fn cost(case: &Case, threads: u32, rates: &Rates) -> Estimate {
         Model::ThreeD => particles as f64 / (k * k * k),
         _ => particles as f64 / (k * k),
     };
-    let (rate, basis) = rates.rate(d.model, case.shape(), threads);
+    let law = LawKind::of(&spec.material);
+    let (rate, basis) = rates.rate(d.model, case.shape(), law, threads);
     // Both counts were computed, and held to the caller's limits, by `Case::parse`.
     let steps = case.step_count();
     Estimate {
