@@ -205,7 +205,7 @@ pub async fn start(args: ServeArgs) -> anyhow::Result<Server> {
         Some(args.seconds("--keep-days", args.keep_days * 86_400.0)?)
     };
     let timeouts = args.timeouts.timeouts()?;
-    let guard = Arc::new(guard::Guard::new(&args.access)?);
+    let guard = Arc::new(guard::Guard::new(&args.access, routes::policies())?);
     anyhow::ensure!(
         guard.has_tokens() || args.access.allow_anonymous_remote || is_loopback(&args.host),
         "--host {} is not a loopback address and there is no --token-file: anyone who can \

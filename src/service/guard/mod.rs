@@ -1,8 +1,11 @@
 //! Who may do what, and from where. One middleware ([`check`]) in front of every route: the
 //! `Host` a request names (DNS rebinding), cross-site requests (a page on another origin must
 //! not act), the caller's token and role ([`tokens`]), and the per-client rate limit of the
-//! routes that cost work ([`rate`]). [`security_headers`] goes on every answer.
+//! routes that cost work ([`rate`]). Which role a route needs and whether it is rate-limited
+//! is declared beside the route in the route table ([`policy`]); the guard looks it up.
+//! [`security_headers`] goes on every answer.
 
+pub mod policy;
 pub mod rate;
 pub mod tokens;
 
@@ -12,6 +15,7 @@ use axum::extract::{ConnectInfo, Request};
 use axum::http::{header, HeaderMap, HeaderValue, Method};
 use axum::middleware::Next;
 use axum::response::Response;
+pub use policy::{Cost, Policies, Policy, Who};
 use std::net::SocketAddr;
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -103,11 +107,13 @@ pub struct Guard {
     healthz: Access,
     metrics: Access,
     limiter: rate::Limiter,
+    /// Each route's policy, as the route table declares it.
+    policies: Policies,
 }
 
 impl Guard {
-    /// The rules the flags ask for; reads the token file.
-    pub fn new(args: &AccessArgs) -> anyhow::Result<Guard> {
+    /// The rules the flags ask for, over the routes' declared `policies`; reads the token file.
+    pub fn new(args: &AccessArgs, policies: Policies) -> anyhow::Result<Guard> {
         let tokens = args.token_file.as_deref().map(Tokens::load).transpose()?;
         let mut named = Vec::new();
         for host in &args.allowed_hosts {
@@ -125,6 +131,7 @@ impl Guard {
             healthz: args.healthz_access,
             metrics: args.metrics_access,
             limiter: rate::Limiter::new(args.rate_limit_per_s, args.rate_limit_burst),
+            policies,
         })
     }
 
@@ -176,19 +183,18 @@ impl Guard {
         })
     }
 
+    /// What a request needs, from its route's declared policy.
     fn need(&self, method: &Method, path: &str) -> Need {
-        let read = |access: Access| match access {
-            Access::Open => Need::Nothing,
-            Access::Read => Need::Role(Role::Read),
-        };
-        match path {
-            "/" | "/v1/session" => Need::Nothing,
-            p if p.starts_with("/assets/") => Need::Nothing,
-            "/healthz" => read(self.healthz),
-            "/metrics" => read(self.metrics),
-            _ if *method == Method::GET || *method == Method::HEAD => Need::Role(Role::Read),
-            _ => Need::Role(Role::Submit),
+        let who = self.policies.of(method, path).who;
+        match policy::role_needed(who, self.healthz, self.metrics) {
+            None => Need::Nothing,
+            Some(role) => Need::Role(role),
         }
+    }
+
+    /// Whether a request's route is rate-limited, as declared.
+    fn rate_limited(&self, method: &Method, path: &str) -> bool {
+        self.policies.of(method, path).cost == Cost::RateLimited
     }
 
     /// The `Host` of a request, if this server answers to it.
@@ -339,15 +345,6 @@ fn is_json(headers: &HeaderMap) -> bool {
         .is_some_and(|e| e == "application/json" || e.ends_with("+json"))
 }
 
-/// The routes a client may call only so often.
-fn rate_limited(method: &Method, path: &str) -> bool {
-    *method == Method::POST
-        && matches!(
-            path,
-            "/v1/jobs" | "/v1/sweeps" | "/v1/estimate" | "/v1/plan" | "/v1/session"
-        )
-}
-
 /// The middleware: host, cross-site, caller, role, JSON body, rate limit; then the route,
 /// with the [`Caller`] in the request's extensions.
 pub async fn check(
@@ -408,7 +405,7 @@ pub async fn check(
                 .to_string(),
         ));
     }
-    if rate_limited(&method, &path) {
+    if guard.rate_limited(&method, &path) {
         let key = match caller.as_ref().and_then(|c| c.name.as_deref()) {
             Some(name) => format!("the token {name}"),
             None => rate::peer_key(peer),
@@ -559,7 +556,7 @@ mod tests {
             rate_limit_per_s: NonZeroU32::new(1).unwrap(),
             rate_limit_burst: NonZeroU32::new(1).unwrap(),
         };
-        let g = Guard::new(&args).unwrap();
+        let g = Guard::new(&args, crate::service::routes::policies()).unwrap();
         let get = Method::GET;
         assert_eq!(g.need(&get, "/"), Need::Nothing);
         assert_eq!(g.need(&get, "/assets/app.js"), Need::Nothing);

@@ -1,6 +1,7 @@
-//! The per-client rate limit of the routes that cost work (submits, sweeps, estimates, plans,
-//! sign-ins): a token bucket per client (governor's GCRA), keyed by token name, or by the
-//! peer's address for a client without one.
+//! The per-client rate limit of the routes that cost work, those the route table declares
+//! `Cost::RateLimited` (submits, sweeps, estimates, plans and sign-ins): a token bucket
+//! per client (governor's GCRA), keyed by token name, or by the peer's address for a client
+//! without one.
 
 use crate::service::error::ApiError;
 use governor::clock::{Clock, DefaultClock};

@@ -16,7 +16,7 @@ pub(crate) use session::{SessionView, SignIn};
 
 use super::connection::{body_deadline, BodyTimedOut};
 use super::error::{ApiError, PROBLEM_JSON};
-use super::guard::{self, Guard};
+use super::guard::{self, Cost, Guard, Policies, Policy, Role, Who};
 use super::hub::Hub;
 use super::store::Store;
 use super::worker::Workers;
@@ -72,48 +72,148 @@ pub struct AppState {
     pub guard: Arc<Guard>,
 }
 
-/// The routes: method, path, handler.
-fn table() -> Vec<(&'static str, &'static str, MethodRouter<AppState>)> {
+/// One route: method, path, who may call it and what a call costs (its policy, which the
+/// guard applies), and its handler. Every route declares its policy here, beside itself.
+struct Route {
+    method: &'static str,
+    path: &'static str,
+    policy: Policy,
+    handler: MethodRouter<AppState>,
+}
+
+/// Anyone, light.
+const OPEN: Policy = Policy {
+    who: Who::Anyone,
+    cost: Cost::Light,
+};
+/// A reader's token, light.
+const READ: Policy = Policy {
+    who: Who::Role(Role::Read),
+    cost: Cost::Light,
+};
+/// A submitter's token, light (cancel, delete: the handler checks the caller owns it).
+const SUBMIT: Policy = Policy {
+    who: Who::Role(Role::Submit),
+    cost: Cost::Light,
+};
+/// A submitter's token; each call checks a case or stores work, and is rate-limited.
+const SUBMIT_LIMITED: Policy = Policy {
+    who: Who::Role(Role::Submit),
+    cost: Cost::RateLimited,
+};
+
+/// The routes.
+fn table() -> Vec<Route> {
+    let r = |method, path, policy, handler| Route {
+        method,
+        path,
+        policy,
+        handler,
+    };
+    let flag = |who| Policy {
+        who,
+        cost: Cost::Light,
+    };
     vec![
-        ("GET", "/", get(page::index)),
-        ("GET", "/assets/{name}", get(page::asset)),
-        ("GET", "/v1/case/fields", get(page::case_fields)),
-        ("GET", "/healthz", get(misc::healthz)),
-        ("GET", "/metrics", get(misc::metrics)),
-        ("POST", "/v1/estimate", post(misc::estimate)),
-        ("POST", "/v1/plan", post(plan::plan)),
-        ("POST", "/v1/jobs", post(jobs::submit)),
-        ("GET", "/v1/jobs", get(jobs::list)),
-        ("GET", "/v1/jobs/{id}", get(jobs::get)),
-        ("DELETE", "/v1/jobs/{id}", delete(jobs::delete)),
-        ("POST", "/v1/jobs/{id}/cancel", post(jobs::cancel)),
-        ("GET", "/v1/jobs/{id}/history", get(results::history)),
-        ("GET", "/v1/jobs/{id}/summary", get(results::summary)),
-        ("GET", "/v1/jobs/{id}/plot.svg", get(results::plot_svg)),
-        ("GET", "/v1/jobs/{id}/shape.png", get(results::shape_png)),
-        ("GET", "/v1/jobs/{id}/state.vtu", get(results::state_vtu)),
-        (
+        r("GET", "/", OPEN, get(page::index)),
+        r("GET", "/assets/{name}", OPEN, get(page::asset)),
+        r("GET", "/v1/case/fields", READ, get(page::case_fields)),
+        r(
+            "GET",
+            "/healthz",
+            flag(Who::HealthzFlag),
+            get(misc::healthz),
+        ),
+        r(
+            "GET",
+            "/metrics",
+            flag(Who::MetricsFlag),
+            get(misc::metrics),
+        ),
+        // An estimate and a plan store nothing, but each checks a case: limited as a submit.
+        r("POST", "/v1/estimate", SUBMIT_LIMITED, post(misc::estimate)),
+        r("POST", "/v1/plan", SUBMIT_LIMITED, post(plan::plan)),
+        r("POST", "/v1/jobs", SUBMIT_LIMITED, post(jobs::submit)),
+        r("GET", "/v1/jobs", READ, get(jobs::list)),
+        r("GET", "/v1/jobs/{id}", READ, get(jobs::get)),
+        r("DELETE", "/v1/jobs/{id}", SUBMIT, delete(jobs::delete)),
+        r("POST", "/v1/jobs/{id}/cancel", SUBMIT, post(jobs::cancel)),
+        r("GET", "/v1/jobs/{id}/history", READ, get(results::history)),
+        r("GET", "/v1/jobs/{id}/summary", READ, get(results::summary)),
+        r(
+            "GET",
+            "/v1/jobs/{id}/plot.svg",
+            READ,
+            get(results::plot_svg),
+        ),
+        r(
+            "GET",
+            "/v1/jobs/{id}/shape.png",
+            READ,
+            get(results::shape_png),
+        ),
+        r(
+            "GET",
+            "/v1/jobs/{id}/state.vtu",
+            READ,
+            get(results::state_vtu),
+        ),
+        r(
             "GET",
             "/v1/jobs/{id}/particles.csv",
+            READ,
             get(results::particles_csv),
         ),
-        ("GET", "/v1/jobs/{id}/series.pvd", get(series::series_pvd)),
-        ("GET", "/v1/jobs/{id}/series.tar", get(series::series_tar)),
-        ("GET", "/v1/jobs/{id}/frames/{name}", get(series::frame_vtu)),
-        ("GET", "/v1/jobs/{id}/events", get(events::events)),
-        ("POST", "/v1/sweeps", post(sweeps::create)),
-        ("GET", "/v1/sweeps", get(sweeps::list)),
-        ("GET", "/v1/sweeps/{id}", get(sweeps::get)),
-        ("DELETE", "/v1/sweeps/{id}", delete(sweeps::delete)),
-        ("GET", "/v1/session", get(session::show)),
-        ("POST", "/v1/session", post(session::sign_in)),
-        ("DELETE", "/v1/session", delete(session::sign_out)),
+        r(
+            "GET",
+            "/v1/jobs/{id}/series.pvd",
+            READ,
+            get(series::series_pvd),
+        ),
+        r(
+            "GET",
+            "/v1/jobs/{id}/series.tar",
+            READ,
+            get(series::series_tar),
+        ),
+        r(
+            "GET",
+            "/v1/jobs/{id}/frames/{name}",
+            READ,
+            get(series::frame_vtu),
+        ),
+        r("GET", "/v1/jobs/{id}/events", READ, get(events::events)),
+        r("POST", "/v1/sweeps", SUBMIT_LIMITED, post(sweeps::create)),
+        r("GET", "/v1/sweeps", READ, get(sweeps::list)),
+        r("GET", "/v1/sweeps/{id}", READ, get(sweeps::get)),
+        r("DELETE", "/v1/sweeps/{id}", SUBMIT, delete(sweeps::delete)),
+        r("GET", "/v1/session", OPEN, get(session::show)),
+        // Signing in needs no token, and each try compares one: rate-limited.
+        r(
+            "POST",
+            "/v1/session",
+            Policy {
+                cost: Cost::RateLimited,
+                ..OPEN
+            },
+            post(session::sign_in),
+        ),
+        r("DELETE", "/v1/session", OPEN, delete(session::sign_out)),
     ]
 }
 
 /// Every (method, path) the server answers.
 pub fn routes() -> Vec<(&'static str, &'static str)> {
-    table().into_iter().map(|(m, p, _)| (m, p)).collect()
+    table().into_iter().map(|r| (r.method, r.path)).collect()
+}
+
+/// Every route's declared policy, for the guard.
+pub fn policies() -> Policies {
+    let declared: Vec<_> = table()
+        .into_iter()
+        .map(|r| (r.method, r.path, r.policy))
+        .collect();
+    Policies::new(&declared)
 }
 
 /// The whole HTTP application.
@@ -122,8 +222,8 @@ pub fn app(state: AppState) -> Router {
     let body_timeout = state.limits.body_timeout;
     let guard = state.guard.clone();
     let mut router = Router::new();
-    for (_, path, handler) in table() {
-        router = router.route(path, handler);
+    for route in table() {
+        router = router.route(route.path, route.handler);
     }
     router
         .fallback(no_route)
@@ -317,4 +417,69 @@ pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
         return Err(not_found());
     }
     uuid::Uuid::parse_str(raw).map_err(|_| not_found())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use axum::http::Method;
+
+    /// A concrete path of a route's pattern: each `{parameter}` filled.
+    fn concrete(pattern: &str) -> String {
+        pattern
+            .split('/')
+            .map(|s| match s.starts_with('{') {
+                true => "x1",
+                false => s,
+            })
+            .collect::<Vec<_>>()
+            .join("/")
+    }
+
+    /// Every route's policy is what the guard applies to a request of it, and the policies
+    /// keep their rules: the page, its assets and the session open; every other read a
+    /// reader's; every other write a submitter's; exactly the calls that check a case, store
+    /// work or compare a token rate-limited. A new route declared with a wrong policy fails
+    /// here.
+    #[test]
+    fn every_route_declares_its_policy_and_the_guard_applies_it() {
+        let policies = policies();
+        let mut limited = Vec::new();
+        for route in table() {
+            let method = Method::from_bytes(route.method.as_bytes()).unwrap();
+            let path = concrete(route.path);
+            assert_eq!(
+                policies.of(&method, &path),
+                route.policy,
+                "{} {}",
+                route.method,
+                route.path
+            );
+            let open = route.path == "/"
+                || route.path.starts_with("/assets/")
+                || route.path == "/v1/session";
+            let flagged = matches!(route.path, "/healthz" | "/metrics");
+            let want = match (open, flagged, route.method) {
+                (true, _, _) => Who::Anyone,
+                (_, true, "GET") if route.path == "/healthz" => Who::HealthzFlag,
+                (_, true, "GET") => Who::MetricsFlag,
+                (_, _, "GET") => Who::Role(Role::Read),
+                _ => Who::Role(Role::Submit),
+            };
+            assert_eq!(route.policy.who, want, "{} {}", route.method, route.path);
+            if route.policy.cost == Cost::RateLimited {
+                limited.push(format!("{} {}", route.method, route.path));
+            }
+        }
+        assert_eq!(
+            limited,
+            [
+                "POST /v1/estimate",
+                "POST /v1/plan",
+                "POST /v1/jobs",
+                "POST /v1/sweeps",
+                "POST /v1/session"
+            ]
+        );
+    }
 }
