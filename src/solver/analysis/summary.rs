@@ -148,7 +148,6 @@ pub fn summarize(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::analysis::curve::*;
     use crate::solver::Limits;
 
     #[test]
@@ -367,7 +366,6 @@ mod tests {
 #[cfg(test)]
 mod spike_tests {
     use super::*;
-    use crate::solver::analysis::curve::*;
 
     /// A regression for what broke on the first n = 4 crush: single-row contact spikes of
     /// +40 % on a flat plateau were counted as folds (9 of them on a curve with one fold).

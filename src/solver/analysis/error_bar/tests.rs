@@ -119,7 +119,7 @@ const SECTION_20: f64 = 12_499.0;
 #[test]
 fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     let ring = summary(1.0, CollapseMode::Ring);
-    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), &ring).unwrap();
+    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), ring.mode).unwrap();
     let ns: Vec<u32> = three_d.iter().map(|(n, _)| *n).collect();
     assert_eq!(ns, [4, 8, 12, 16]);
     for (n, twin) in &three_d {
