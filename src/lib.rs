@@ -8,3 +8,6 @@ pub mod plot;
 pub mod service;
 pub mod solver;
 pub mod study;
+
+#[cfg(test)]
+mod import_tree_tests;

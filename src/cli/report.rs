@@ -1,12 +1,12 @@
 //! The text a finished run prints: loads in kN, energy in J, the collapse mode with its reason,
 //! the closed-form references with the ratio of our mean load to the primary one, and the cost.
 
+use crate::solver::analysis::curve::UNLOADED_FRACTION;
 use crate::solver::analysis::error_bar::ErrorBar;
 use crate::solver::analysis::expected::ExpectedError;
 use crate::solver::analysis::mode::ModeDetail;
 use crate::solver::analysis::reference::shown::{fitting, Seen};
 use crate::solver::analysis::reference::References;
-use crate::solver::analysis::summary::UNLOADED_FRACTION;
 use crate::solver::analysis::verdict::END_SPREAD_CAUTION;
 use crate::solver::analysis::verdict::{Level, Verdict};
 use crate::solver::model::case::{CrossSection, LoadingMode};
@@ -503,7 +503,7 @@ mod tests {
         s.energy_balance_error = 0.06;
         s.verdict = Some(crate::solver::analysis::verdict::of_run(
             &case,
-            &s,
+            &s.verdict_figures(),
             &ModeDetail::default(),
         ));
         let text = format_report(&case, &s, &ModeDetail::default());

@@ -23,10 +23,11 @@ pub mod engine;
 pub mod model;
 mod runner;
 
+pub use analysis::curve::EnergyBooks;
 pub use analysis::estimate::{estimate, estimate_with, Estimate};
 pub use analysis::mode::{detect_mode, CollapseMode, ModeDetail};
 pub use analysis::reference::{references, References};
-pub use analysis::summary::{summarize, EnergyBooks, Summary};
+pub use analysis::summary::{summarize, Summary};
 pub use engine::checkpoint::{Checkpoint, CheckpointError, Resume};
 pub use engine::history::HistoryRow;
 pub use engine::observer::{Frame, Observer, Progress, Recorder, RungProgress};

@@ -103,7 +103,7 @@ impl Runner {
         if case.spec().output.error_bar {
             return self.add_error_bar(case, out, ladder, cancel);
         }
-        if let Err(why) = error_bar::ladder(case, &out.summary) {
+        if let Err(why) = error_bar::ladder(case, out.summary.mode) {
             out.summary.error_bar = Some(ErrorBar::Unavailable { why });
             return Ok(());
         }
@@ -135,7 +135,7 @@ impl Runner {
         ladder: &mut (dyn LadderObserver + Send),
         cancel: &AtomicBool,
     ) -> Result<(), SolveError> {
-        let bar = match error_bar::ladder(case, &out.summary) {
+        let bar = match error_bar::ladder(case, out.summary.mode) {
             Err(why) => ErrorBar::Unavailable { why },
             Ok(rungs) => {
                 let total = rungs.len();
@@ -159,20 +159,20 @@ impl Runner {
                                     };
                                     let summary =
                                         self.run(&twin, &mut rung_observer, cancel)?.summary;
-                                    let rung = error_bar::Rung::of(n, &summary);
+                                    let rung = summary.rung(n);
                                     ladder.on_rung(index, &rung);
                                     rung
                                 }
                             }
                         }
-                        None => error_bar::Rung::of(n, &out.summary),
+                        None => out.summary.rung(n),
                     };
                     done.push(rung);
                 }
                 let three_d = case.spec().discretization.model == Model::ThreeD;
                 let model = model.unwrap_or(case.spec().discretization.model);
                 let n = case.spec().discretization.particles_through_thickness;
-                error_bar::from_rungs(model, done, &out.summary, n, three_d)
+                error_bar::from_rungs(model, done, &out.summary.rung(n), three_d)
             }
         };
         out.summary.error_bar = Some(bar);

@@ -114,7 +114,7 @@ fn folds_are_counted_from_the_shape_within_what_the_crush_can_fold() {
              "loading": {"crush_distance_mm": 25}, "output": {"history_points": 250}}"#,
     );
     let s = run_on(&c, 2).summary;
-    let fold = crush::solver::analysis::verdict::fold_length_mm(&c);
+    let fold = crush::solver::analysis::reference::fold_length_mm(&c);
     let most = (25.0 / (0.73 * fold)).ceil() as u32;
     assert!(
         (1..=most).contains(&s.folds),

@@ -19,12 +19,11 @@
 //! converged answer on thin walls yet), or the model's own error against a real tube
 //! (material, friction, rate).
 
+use super::mode::CollapseMode;
 use super::richardson::{richardson, Extrapolation};
-use super::summary::Summary;
 use crate::solver::model::case::{Case, Limits, LoadingMode, Model};
 use crate::solver::model::ladder::rungs;
 pub use crate::solver::model::ladder::LOWEST_RUNG;
-use crate::solver::CollapseMode;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -102,18 +101,6 @@ pub struct Rung {
     pub wall_time_s: f64,
 }
 
-impl Rung {
-    /// The rung at `n` of a run that ended with `summary`.
-    pub fn of(n: u32, summary: &Summary) -> Rung {
-        Rung {
-            n,
-            mean_load_n: summary.mean_load_n,
-            first_peak_load_n: summary.measures.first_peak_load_n,
-            wall_time_s: summary.cost.wall_time_s,
-        }
-    }
-}
-
 /// One quantity read off the ladder: its estimate and interval, N.
 struct Reading {
     estimate: f64,
@@ -163,13 +150,13 @@ fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, three_d: bool) -> Rea
 }
 
 /// The first collapse peak's interval, when the run and every rung have a first peak.
-fn first_peak(rungs: &[Rung], run: &Summary, run_n: u32, three_d: bool) -> Option<PeakInterval> {
-    let run_peak = run.measures.first_peak_load_n?;
+fn first_peak(rungs: &[Rung], run: &Rung, three_d: bool) -> Option<PeakInterval> {
+    let run_peak = run.first_peak_load_n?;
     let values: Option<Vec<(u32, f64)>> = rungs
         .iter()
         .map(|r| r.first_peak_load_n.map(|p| (r.n, p)))
         .collect();
-    let r = read(&values?, run_peak, run_n, three_d);
+    let r = read(&values?, run_peak, run.n, three_d);
     Some(PeakInterval {
         estimate_n: r.estimate,
         low_n: r.low,
@@ -188,17 +175,17 @@ pub const MODEL_GAP_FLOOR: f64 = 0.005;
 
 /// The rungs to run for `case`, each a case of the reduced model, with `None` for the rung that
 /// is the run itself; or why there is no ladder (the case's shape functions or its n, or a run
-/// that collapsed in a way its section cannot).
-pub fn ladder(case: &Case, summary: &Summary) -> Result<Vec<(u32, Option<Case>)>, String> {
+/// that collapsed, in `mode`, in a way its section cannot).
+pub fn ladder(case: &Case, mode: CollapseMode) -> Result<Vec<(u32, Option<Case>)>, String> {
     let spec = case.spec();
     let rungs = rungs(spec, case.shape())?;
-    let folded_alike = matches!(summary.mode, CollapseMode::Ring | CollapseMode::Flattening);
+    let folded_alike = matches!(mode, CollapseMode::Ring | CollapseMode::Flattening);
     if spec.discretization.model == Model::ThreeD && !folded_alike {
         return Err(format!(
             "the run collapsed as {}: its section can fold only as {}, so a ladder of the \
              section does not price this run's error (run an ensemble over trigger.seed for \
              the spread)",
-            summary.mode.kind().replace('_', " "),
+            mode.kind().replace('_', " "),
             match spec.loading.mode {
                 LoadingMode::Axial => "rings",
                 LoadingMode::Lateral => "a flattening",
@@ -217,15 +204,10 @@ pub fn ladder(case: &Case, summary: &Summary) -> Result<Vec<(u32, Option<Case>)>
         .collect()
 }
 
-/// The error bar from the rungs' results; `run` is the run's own summary.
-/// `run_n`: the run's own n; `three_d`: whether the run is 3D (else the section itself).
-pub fn from_rungs(
-    model: Model,
-    rungs: Vec<Rung>,
-    run: &Summary,
-    run_n: u32,
-    three_d: bool,
-) -> ErrorBar {
+/// The error bar from the rungs' results; `run` is the run's own figures as a rung at its own
+/// n (`Summary::rung`); `three_d`: whether the run is 3D (else the section itself).
+pub fn from_rungs(model: Model, rungs: Vec<Rung>, run: &Rung, three_d: bool) -> ErrorBar {
+    let run_n = run.n;
     let f = run.mean_load_n;
     if rungs.len() < 3 {
         return ErrorBar::Unavailable {
@@ -276,10 +258,10 @@ pub fn from_rungs(
         order: extrapolation.map(|e| e.order).filter(|o| o.is_finite()),
         extrapolated: trusted,
         twin_gap: twin_gap / estimate.abs().max(f64::MIN_POSITIVE),
-        cost_fraction: cost_s / run.cost.wall_time_s.max(1e-9),
+        cost_fraction: cost_s / run.wall_time_s.max(1e-9),
         cost_s,
         covers,
-        first_peak: first_peak(&rungs, run, run_n, three_d),
+        first_peak: first_peak(&rungs, run, three_d),
         rungs,
     })
 }

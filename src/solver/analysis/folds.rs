@@ -32,7 +32,7 @@
 //! does by a wall thickness or two, never does); the tube's count is the lower median over its
 //! four faces.
 //!
-//! The load curve's drops are counted apart (`summary::count_load_drops`): in the diamond runs
+//! The load curve's drops are counted apart (`curve::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
 
 use super::faces::face_slices;

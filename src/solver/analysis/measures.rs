@@ -3,7 +3,7 @@
 //! crush is the end compaction), the mean load after it, the crush-force efficiency and the
 //! energy the wall dissipated. Units: g, J/g, N, mm, mJ.
 
-use super::summary::{load_drops, running_energy, EnergyBooks};
+use super::curve::{load_drops, running_energy, EnergyBooks};
 use crate::solver::engine::history::HistoryRow;
 use crate::solver::model::case::CrossSection;
 use crate::solver::model::spec::CaseSpec;
@@ -20,7 +20,7 @@ pub struct Measures {
     /// plate's ∫ P du) over the tube's mass.
     pub specific_energy_absorption_j_per_g: f64,
     /// The first collapse peak, N: the highest load before the first significant load drop
-    /// ([`super::summary::count_load_drops`]'s rule), a single-row contact spike clipped to its
+    /// ([`super::curve::count_load_drops`]'s rule), a single-row contact spike clipped to its
     /// neighbours. `None` where the load never drops (a lateral flattening, a crush that ends
     /// before the first fold).
     pub first_peak_load_n: Option<f64>,

@@ -49,7 +49,7 @@
 //! mode): a slice holds a **hinge** when at least [`HINGE_SHARE`] of its particles passed the
 //! plastic strain [`HINGE_STRAIN`] (a fold's hinge lines strain the wall far more; an oval or a
 //! cone bent out of the wall does not); the slices with none, at least half a fold length
-//! (`verdict::fold_length_mm` / 2) from any slice with one, are the unfolded wall, and the
+//! (`reference::fold_length_mm` / 2) from any slice with one, are the unfolded wall, and the
 //! largest harmonic-2 amplitude among them of each particle's distance from its slice's own
 //! current centroid, less its initial radius, is `unfolded_two_lobe_mm`: how far the unfolded
 //! wall went oval. Not all of that is wrong: the hinged slices' own ovals reach along an
@@ -68,59 +68,19 @@
 //! drift is judged against its larger side; once it has not bent over as a whole, its mode is
 //! read from how its faces fold ([`rectangular`]): symmetric, asymmetric mixed or extensional.
 
+mod kinds;
 mod rectangular;
 
+pub use kinds::{CollapseMode, FaceLayers};
+
 use super::faces::face_slices;
+use super::reference::fold_length_mm;
 use super::reference::shell::lobe_decay_mm;
-use super::verdict::fold_length_mm;
 use crate::solver::engine::Snapshot;
 use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
 use crate::solver::Real;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-
-/// How the tube collapsed, judged from its final shape.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum CollapseMode {
-    /// Axisymmetric concertina folds.
-    Ring,
-    /// Non-axisymmetric folds with this many lobes around the circumference.
-    Diamond { lobes: u32 },
-    /// The whole column bowed sideways (Euler buckling).
-    GlobalBuckling,
-    /// Lateral loading: the tube was flattened across a diameter.
-    Flattening,
-    /// The whole tube tipped over between the plates: its centre line left the axis but stayed
-    /// straight, and an end left its plate (it stands on the edge of its ring, or the tube lies
-    /// on its side).
-    TippedOver,
-    /// A rectangular tube's layers of lobes each fold two opposite faces out and the other two
-    /// in (Wierzbicki & Abramowicz's symmetric mode).
-    Symmetric,
-    /// A rectangular tube's layers fold three faces out and one in, or the like, among
-    /// symmetric ones (Abramowicz & Jones's asymmetric mixed modes).
-    AsymmetricMixed,
-    /// A rectangular tube's faces fold out together (the extensional mode of thick walls).
-    Extensional,
-}
-
-impl CollapseMode {
-    /// The mode's name as its JSON `kind` spells it (`ring`, `diamond`, …): the stored
-    /// `mode` column and the sweep table's `mode`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            CollapseMode::Ring => "ring",
-            CollapseMode::Diamond { .. } => "diamond",
-            CollapseMode::GlobalBuckling => "global_buckling",
-            CollapseMode::Flattening => "flattening",
-            CollapseMode::TippedOver => "tipped_over",
-            CollapseMode::Symmetric => "symmetric",
-            CollapseMode::AsymmetricMixed => "asymmetric_mixed",
-            CollapseMode::Extensional => "extensional",
-        }
-    }
-}
 
 /// Highest circumferential harmonic analysed.
 pub const MAX_HARMONIC: usize = 8;
@@ -218,24 +178,6 @@ pub struct ModeDetail {
     /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub faces: Option<FaceLayers>,
-}
-
-/// A rectangular tube's folded slices, by what their faces show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
-pub struct FaceLayers {
-    /// Opposite faces alike, neighbours unlike.
-    pub symmetric: u32,
-    /// Any other pattern but all four alike.
-    pub asymmetric: u32,
-    /// All four faces out (or in) together.
-    pub extensional: u32,
-}
-
-impl FaceLayers {
-    /// The folded slices the faces were read on.
-    pub fn total(&self) -> u32 {
-        self.symmetric + self.asymmetric + self.extensional
-    }
 }
 
 /// Per-slice accumulators.
@@ -411,7 +353,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     }
     if rectangular {
         let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
-        let (mode, counts, reason) = rectangular::decide(&faces, t);
+        let (mode, counts, reason) = rectangular::decide(&faces, FOLDED_MIN_T * t);
         detail.faces = Some(counts);
         detail.folded_slices = counts.total();
         detail.reason = reason;

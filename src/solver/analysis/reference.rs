@@ -16,10 +16,12 @@
 //! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
 //! Jones).
 
+mod primary;
 pub mod rectangular;
 pub mod shell;
 pub mod shown;
 
+pub use primary::Primary;
 pub use rectangular::RectangularReferences;
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
@@ -30,34 +32,6 @@ use std::f64::consts::PI;
 
 /// Lobe counts for which the diamond-mode reference is reported.
 pub const DIAMOND_LOBES: std::ops::RangeInclusive<u32> = 2..=5;
-
-/// Which reference a run's mean load should be compared with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum Primary {
-    /// Axial loading: Alexander's ring-mode mean load.
-    #[default]
-    AlexanderRing,
-    /// Lateral loading: DeRuntz & Hodge's load averaged over the crush.
-    DeruntzHodgeMean,
-    /// Axial loading of a rectangular tube: Abramowicz & Jones's mean load over the effective
-    /// crushing distance, with the rate law's factor where the material names one.
-    AbramowiczJones,
-    /// A loading no closed form here covers (a rectangular tube crushed laterally).
-    Unavailable,
-}
-
-impl Primary {
-    /// Short human name, for reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Primary::AlexanderRing => "Alexander ring",
-            Primary::DeruntzHodgeMean => "DeRuntz-Hodge mean",
-            Primary::AbramowiczJones => "Abramowicz-Jones",
-            Primary::Unavailable => "no closed form",
-        }
-    }
-}
 
 /// Johnson, Soden & Al-Hassani's mean load for one lobe count.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
@@ -265,6 +239,15 @@ pub fn guillow(t: f64, d: f64, sigma0: f64) -> f64 {
 /// least (bending 2π² R M0 / H, stretching π σ0 t H, M0 = σ0 t² / (2√3)).
 pub fn alexander_half_fold(t: f64, d: f64) -> f64 {
     (PI * d * t / (2.0 * 3f64.sqrt())).sqrt()
+}
+
+/// Alexander's fold length 2H of the case's wall, mm: twice [`alexander_half_fold`] of its
+/// mean width and wall thickness (the paper's tube: 2H = 16.1 mm; its 50 mm crush makes three
+/// folds and a fourth).
+pub fn fold_length_mm(case: &Case) -> f64 {
+    let section = case.geometry().section;
+    let (d, t) = (section.width_mm(), section.thickness_mm());
+    2.0 * alexander_half_fold(t, d)
 }
 
 /// The mean strain rate of the folds, V/(4R), of the plate speed V (m/s) and the mean

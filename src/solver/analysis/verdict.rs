@@ -5,7 +5,7 @@
 //! ([`foreseen`]: the form warns with them); the others need its numbers ([`of_run`]).
 
 use super::mode::{CollapseMode, ModeDetail};
-use super::summary::Summary;
+use super::reference::fold_length_mm;
 use crate::solver::model::case::{Case, LoadingMode, Model, ShapeKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -285,15 +285,24 @@ pub const OVAL_CAUTION_T: f64 = 0.5;
 /// spread as on μ 0.02, 1.28).
 pub const END_SPREAD_CAUTION: f64 = 1.25;
 
-/// The verdict of a finished run: the foreseen reasons and those its numbers and its final
+/// The figures of a finished run that its verdict reads (a summary's, of the same names).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunFigures {
+    pub mode: CollapseMode,
+    /// The longest stretch of plate travel with the plate unloaded, mm.
+    pub longest_unloaded_mm: f64,
+    /// The energy books' largest relative gap over the run.
+    pub energy_balance_error: f64,
+    /// Largest E_kin / E_int over the second half of the crush.
+    pub kinetic_to_internal: f64,
+}
+
+/// The verdict of a finished run: the foreseen reasons and those its figures and its final
 /// shape (`detail`) show.
-pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
+pub fn of_run(case: &Case, run: &RunFigures, detail: &ModeDetail) -> Verdict {
     let mut reasons = foreseen(case);
     let t = case.geometry().section.thickness_mm();
-    let folding = matches!(
-        summary.mode,
-        CollapseMode::Ring | CollapseMode::Diamond { .. }
-    );
+    let folding = matches!(run.mode, CollapseMode::Ring | CollapseMode::Diamond { .. });
     if folding && detail.unfolded_excess_two_lobe_mm > OVAL_CAUTION_T * t {
         reasons.push(Reason {
             rule: Rule::OvalisedWall,
@@ -325,7 +334,7 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             ),
         });
     }
-    if summary.mode == CollapseMode::TippedOver {
+    if run.mode == CollapseMode::TippedOver {
         reasons.push(Reason {
             rule: Rule::TippedOver,
             level: Level::NotTrusted,
@@ -335,18 +344,18 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
                 .into(),
         });
     }
-    if summary.longest_unloaded_mm > UNLOADED_NOT_TRUSTED_MM {
+    if run.longest_unloaded_mm > UNLOADED_NOT_TRUSTED_MM {
         reasons.push(Reason {
             rule: Rule::Unloaded,
             level: Level::NotTrusted,
             detail: format!(
                 "disregard this load and check how the tube sits on its plates: the load \
                 stayed under 1 % of its peak over {:.1} mm of plate travel",
-                summary.longest_unloaded_mm
+                run.longest_unloaded_mm
             ),
         });
     }
-    let e = summary.energy_balance_error;
+    let e = run.energy_balance_error;
     if let Some((level, over)) = graded(e, BALANCE_CAUTION, BALANCE_NOT_TRUSTED) {
         reasons.push(Reason {
             rule: Rule::EnergyBalance,
@@ -362,7 +371,7 @@ pub fn of_run(case: &Case, summary: &Summary, detail: &ModeDetail) -> Verdict {
             ),
         });
     }
-    let k = summary.kinetic_to_internal;
+    let k = run.kinetic_to_internal;
     if let Some((level, _)) = graded(k, KINETIC_CAUTION, KINETIC_NOT_TRUSTED) {
         reasons.push(Reason {
             rule: Rule::NotQuasiStatic,
@@ -388,16 +397,6 @@ fn graded(value: f64, caution: f64, not_trusted: f64) -> Option<(Level, f64)> {
     } else {
         None
     }
-}
-
-/// Alexander's fold length 2H for the wall, mm: the H that minimises his mean load (bending of
-/// three hinges against the stretching of the ring between them) is √(π d t / (2√3)) for a
-/// round tube of mean diameter d and wall t, the same model as `reference::alexander_ring`
-/// (the paper's tube: 2H = 16.1 mm; its 50 mm crush makes three folds and a fourth).
-pub fn fold_length_mm(case: &Case) -> f64 {
-    let section = case.geometry().section;
-    let (d, t) = (section.width_mm(), section.thickness_mm());
-    2.0 * (std::f64::consts::PI * d * t / (2.0 * 3f64.sqrt())).sqrt()
 }
 
 pub mod plausible;

@@ -1,6 +1,7 @@
 //! The error bar's ladder and its interval, on ladders whose answer is known.
 
 use super::*;
+use crate::solver::Summary;
 
 fn case(json: &str) -> Case {
     Case::from_json(json, &Limits::default()).unwrap()
@@ -48,8 +49,7 @@ fn an_exact_power_law_ladder_extrapolates_to_its_limit_and_holds_it() {
     let l = ladder_of(from_rungs(
         Model::Axisymmetric,
         rungs(&points),
-        &run,
-        4,
+        &run.rung(4),
         true,
     ));
     assert!(l.extrapolated);
@@ -89,7 +89,7 @@ fn the_paper_case_intervals_hold_the_converged_load_at_n_4_6_8_and_10() {
         let mut spec = gimp.spec().clone();
         spec.discretization.particles_through_thickness = n;
         let c = Case::parse(spec, &Limits::default()).unwrap();
-        let points: Vec<(u32, f64)> = ladder(&c, &run)
+        let points: Vec<(u32, f64)> = ladder(&c, run.mode)
             .unwrap()
             .iter()
             .map(|(k, _)| (*k, section(*k)))
@@ -97,8 +97,7 @@ fn the_paper_case_intervals_hold_the_converged_load_at_n_4_6_8_and_10() {
         let l = ladder_of(from_rungs(
             Model::Axisymmetric,
             rungs(&points),
-            &run,
-            n,
+            &run.rung(n),
             true,
         ));
         assert!(
@@ -120,7 +119,7 @@ const SECTION_20: f64 = 12_499.0;
 #[test]
 fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     let ring = summary(1.0, CollapseMode::Ring);
-    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), &ring).unwrap();
+    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), ring.mode).unwrap();
     let ns: Vec<u32> = three_d.iter().map(|(n, _)| *n).collect();
     assert_eq!(ns, [4, 8, 12, 16]);
     for (n, twin) in &three_d {
@@ -130,7 +129,7 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
         assert_eq!(twin.trigger.weak_fraction, 0.0);
     }
     let fine = case(r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 10}}"#);
-    let ns: Vec<u32> = ladder(&fine, &ring)
+    let ns: Vec<u32> = ladder(&fine, ring.mode)
         .unwrap()
         .iter()
         .map(|(n, _)| *n)
@@ -138,12 +137,12 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     assert_eq!(ns, [10, 15, 20]);
     let section =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 12}}"#);
-    let rungs = ladder(&section, &ring).unwrap();
+    let rungs = ladder(&section, ring.mode).unwrap();
     let ns: Vec<(u32, bool)> = rungs.iter().map(|(n, c)| (*n, c.is_some())).collect();
     assert_eq!(ns, [(12, false), (18, true), (24, true)]);
     let coarse =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 6}}"#);
-    let ns: Vec<(u32, bool)> = ladder(&coarse, &ring)
+    let ns: Vec<(u32, bool)> = ladder(&coarse, ring.mode)
         .unwrap()
         .iter()
         .map(|(n, c)| (*n, c.is_some()))
@@ -151,7 +150,7 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     assert_eq!(ns, [(8, true), (12, true), (16, true)]);
     let lateral = case(r#"{"loading": {"mode": "lateral"}}"#);
     let flat = summary(1.0, CollapseMode::Flattening);
-    let rungs = ladder(&lateral, &flat).unwrap();
+    let rungs = ladder(&lateral, flat.mode).unwrap();
     assert_eq!(
         rungs[0].1.as_ref().unwrap().spec().discretization.model,
         Model::PlaneStrain
@@ -162,17 +161,19 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
 fn linear_shapes_b_splines_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
     let ring = summary(1.0, CollapseMode::Ring);
     let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
-    assert!(ladder(&linear, &ring).unwrap_err().contains("linear"));
+    assert!(ladder(&linear, ring.mode).unwrap_err().contains("linear"));
     let bspline = case(r#"{"discretization": {"shape": "bspline"}}"#);
-    assert!(ladder(&bspline, &ring)
+    assert!(ladder(&bspline, ring.mode)
         .unwrap_err()
         .contains("B-splines have no error table"));
     let diamond = summary(1.0, CollapseMode::Diamond { lobes: 3 });
     let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
-    assert!(ladder(&gimp, &diamond).unwrap_err().contains("diamond"));
+    assert!(ladder(&gimp, diamond.mode).unwrap_err().contains("diamond"));
     let fine =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 40}}"#);
-    assert!(ladder(&fine, &ring).unwrap_err().contains("past its 64"));
+    assert!(ladder(&fine, ring.mode)
+        .unwrap_err()
+        .contains("past its 64"));
 }
 
 /// The paper's axial case (uGIMP, 50 mm): first collapse peaks (`first_peak_load_n`, N) of the
@@ -202,7 +203,7 @@ fn the_paper_case_first_peak_intervals_hold_the_sections_settled_peak_at_n_4_and
         let mut spec = gimp.spec().clone();
         spec.discretization.particles_through_thickness = n;
         let c = Case::parse(spec, &Limits::default()).unwrap();
-        let rungs: Vec<Rung> = ladder(&c, &run)
+        let rungs: Vec<Rung> = ladder(&c, run.mode)
             .unwrap()
             .iter()
             .map(|(k, _)| Rung {
@@ -212,7 +213,7 @@ fn the_paper_case_first_peak_intervals_hold_the_sections_settled_peak_at_n_4_and
                 wall_time_s: 1.0,
             })
             .collect();
-        let l = ladder_of(from_rungs(Model::Axisymmetric, rungs, &run, n, true));
+        let l = ladder_of(from_rungs(Model::Axisymmetric, rungs, &run.rung(n), true));
         let p = l.first_peak.expect("every rung has a first peak");
         assert!(
             p.low_n <= lowest && highest <= p.high_n,
@@ -236,13 +237,12 @@ fn a_rung_without_a_first_peak_leaves_the_first_peak_without_an_interval() {
     let with = ladder_of(from_rungs(
         Model::Axisymmetric,
         points.clone(),
-        &run,
-        8,
+        &run.rung(8),
         false,
     ));
     assert!(with.first_peak.is_some());
     points[1].first_peak_load_n = None;
-    let without = ladder_of(from_rungs(Model::Axisymmetric, points, &run, 8, false));
+    let without = ladder_of(from_rungs(Model::Axisymmetric, points, &run.rung(8), false));
     assert_eq!(without.first_peak, None);
 }
 
@@ -282,7 +282,7 @@ fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {
     );
     let run = summary(5_297.2, CollapseMode::Flattening);
     let section = [(4, 5_323.1), (8, 5_452.4), (12, 5_489.1), (16, 5_502.7)];
-    let ks: Vec<u32> = ladder(&lateral, &run)
+    let ks: Vec<u32> = ladder(&lateral, run.mode)
         .unwrap()
         .iter()
         .map(|r| r.0)
@@ -291,8 +291,7 @@ fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {
     let l = ladder_of(from_rungs(
         Model::PlaneStrain,
         rungs(&section),
-        &run,
-        4,
+        &run.rung(4),
         true,
     ));
     assert!(l.low_n <= 5_489.0 && 5_503.0 <= l.high_n, "{l:?}");

@@ -14,12 +14,12 @@
 //! symmetric otherwise. Global bending is the round tube's global buckling, judged by the
 //! same drift of the slices' centroids before this.
 
-use super::{CollapseMode, FaceLayers, FOLDED_MIN_T};
+use super::kinds::{CollapseMode, FaceLayers};
 use crate::solver::analysis::faces::FaceSlice;
 use crate::solver::Real;
 
 /// A slice is folded when its RMS displacement reaches this share of the largest slice's
-/// (and [`FOLDED_MIN_T`] · t).
+/// (and the least a fold moves the wall, `super::FOLDED_MIN_T` · t).
 pub const FOLDED_FRACTION: Real = 0.25;
 
 /// A face whose displacement is below this share of the slice's largest counts as flat.
@@ -59,8 +59,12 @@ fn layer(w: [Real; 4]) -> Layer {
 }
 
 /// The mode of an axially crushed rectangular tube that did not bend over as a whole, from its
-/// face slices; the counts behind it; and why.
-pub(super) fn decide(slices: &[FaceSlice], t: Real) -> (CollapseMode, FaceLayers, String) {
+/// face slices, of which those whose RMS displacement is below `folded_min_mm` are not folded;
+/// the counts behind it; and why.
+pub(super) fn decide(
+    slices: &[FaceSlice],
+    folded_min_mm: Real,
+) -> (CollapseMode, FaceLayers, String) {
     let whole: Vec<(&FaceSlice, [Real; 4])> = slices
         .iter()
         .filter_map(|s| match s.w {
@@ -72,7 +76,7 @@ pub(super) fn decide(slices: &[FaceSlice], t: Real) -> (CollapseMode, FaceLayers
     let mut counts = FaceLayers::default();
     for (_, w) in whole
         .iter()
-        .filter(|(s, _)| s.rms >= (FOLDED_FRACTION * max_rms).max(FOLDED_MIN_T * t))
+        .filter(|(s, _)| s.rms >= (FOLDED_FRACTION * max_rms).max(folded_min_mm))
     {
         match layer(*w) {
             Layer::Symmetric => counts.symmetric += 1,

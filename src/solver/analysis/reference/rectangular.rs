@@ -16,7 +16,7 @@
 //! its mean side c = (a + b)/2, as Jones does, and the corner radius not at all. The Euler load
 //! of the column uses the section's own least second moment of area.
 
-use super::Primary;
+use super::primary::Primary;
 use crate::solver::model::case::{Case, LoadingMode, Rectangle};
 use crate::solver::model::spec::RateKind;
 use schemars::JsonSchema;

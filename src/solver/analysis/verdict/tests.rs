@@ -13,15 +13,16 @@ fn rules(reasons: &[Reason]) -> Vec<(Rule, Level)> {
     reasons.iter().map(|r| (r.rule, r.level)).collect()
 }
 
-/// A summary of the paper's case with the two numbers the run-time rules read.
-fn summary(energy_balance_error: f64, kinetic_to_internal: f64) -> Summary {
+/// The figures of a summary of the paper's case with the two numbers the run-time rules read.
+fn summary(energy_balance_error: f64, kinetic_to_internal: f64) -> RunFigures {
     let mut s = crate::solver::summarize(
         &case("{}"),
         &[],
         &crate::solver::Snapshot::default(),
         Default::default(),
     )
-    .0;
+    .0
+    .verdict_figures();
     s.energy_balance_error = energy_balance_error;
     s.kinetic_to_internal = kinetic_to_internal;
     s
