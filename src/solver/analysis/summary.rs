@@ -48,7 +48,7 @@ pub struct Summary {
     /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
     pub kinetic_to_internal: f64,
     /// The longest stretch of plate travel over which the load on the moving plate stayed
-    /// below [`UNLOADED_FRACTION`](super::curve::UNLOADED_FRACTION) of the peak load: the tube lost its hold on the plate (it
+    /// below `UNLOADED_FRACTION` of the peak load: the tube lost its hold on the plate (it
     /// tipped over, or floats between the plates), mm. See [`longest_unloaded_mm`].
     #[serde(default)]
     pub longest_unloaded_mm: f64,
