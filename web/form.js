@@ -253,8 +253,8 @@ const PLAN_REDUCED_S = 60;
 
 /// The planner's answer beside Run (POST /v1/plan): the cheapest run of the case's own model
 /// for each target, and the most accurate of its reduced model within a minute, with what it
-/// cannot show; e.g. "±5 %: n = 8, about 11.6 min; ±10 %: n = 6, about 3.7 min;
-/// axisymmetric n = 16 (±0.4 %), about 1.2 min, rings only".
+/// cannot show; e.g. "±5 %: n = 8, about 26.8 min; ±10 %: n = 6, about 8.5 min;
+/// axisymmetric n = 16 (±0.4 %), about 1.9 min, rings only".
 async function showPlan(base, seq) {
   const out = document.getElementById("plan");
   if (!out) return;

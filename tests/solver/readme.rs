@@ -260,7 +260,7 @@ fn an_example_without_a_cost_or_with_a_wrong_one_is_caught() {
     let posted = "```sh\ncurl \"$URL/v1/jobs\" -d '{\"tube\": {\"length_mm\": 8}, \
                   \"discretization\": {\"particles_through_thickness\": 1}, \
                   \"loading\": {\"crush_distance_mm\": 1, \"plate_speed_m_s\": 20}}'\n```\n\n";
-    let row = "| [`a`](examples/axial_t3.2.json) | 3D | about 4 min on 2 threads |\n\n";
+    let row = "| [`a`](examples/axial_t3.2.json) | 3D | about 8 min on 2 threads |\n\n";
 
     assert!(problems("ok", &format!("{run}Costs about 6 s on 2 threads.\n")).is_empty());
     assert!(problems(
