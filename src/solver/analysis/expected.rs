@@ -5,12 +5,13 @@
 //! "no measured guide", and why. Units: %.
 //!
 //! An expected error is a guide, not a bound: a priced error bar ([`super::error_bar`]) is
-//! this run's own. Imports the case alone.
+//! this run's own. Imports the case, and from the references where a metal's modulus starts.
 
 mod tables;
 
 pub use tables::{error_table, expected_error_percent, ERROR_BASIS};
 
+use super::reference::shown::METAL_MODULUS_MPA;
 use crate::solver::model::case::{Case, CrossSection, Model, ShapeKind};
 use crate::solver::model::spec::{HardeningKind, MaterialModel, RateKind};
 use schemars::JsonSchema;
@@ -25,10 +26,6 @@ pub const STUDIED_D_OVER_T: f64 = 22.2 / 3.2;
 /// thick for its tube and folds in rings like it; a chosen margin, not a measured one, until
 /// studies of thinner walls are stored beside it.
 pub const NEAR_FACTOR: f64 = 1.25;
-
-/// Young's modulus below which a wall is a polymer like the studies' PVC, MPa (the metals'
-/// least, magnesium's, is 45 GPa; `reference::shown::METAL_MODULUS_MPA`).
-const POLYMER_MODULUS_MPA: f64 = 20_000.0;
 
 /// A run's expected error: its size where a study guides it, and what it is based on, or why
 /// there is none.
@@ -90,7 +87,7 @@ fn far(case: &Case, shape: ShapeKind) -> Option<String> {
     }
     let m = &case.spec().material;
     if m.model != MaterialModel::J2
-        || m.youngs_modulus_mpa >= POLYMER_MODULUS_MPA
+        || m.youngs_modulus_mpa >= METAL_MODULUS_MPA
         || m.hardening != HardeningKind::None
         || m.rate != RateKind::None
     {
