@@ -13,17 +13,33 @@ use crate::solver::model::case::{CrossSection, LoadingMode};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
 
-/// The readable summary of a run.
+/// The readable summary of a run: what ran, the verdict, the loads with their error, the
+/// crash measures, the mode, the energy books, the references that fit and the cost.
 pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
-    let spec = case.spec();
-    let r = &s.references;
-    let c = &s.cost;
+    // Writing to a String cannot fail; the results are ignored.
     let mut o = String::new();
+    scene_lines(&mut o, case);
+    if let Some(v) = &s.verdict {
+        verdict_lines(&mut o, v, s);
+    }
+    load_lines(&mut o, s);
+    measure_lines(&mut o, s);
+    mode_lines(&mut o, s, detail);
+    book_lines(&mut o, s);
+    let _ = writeln!(o);
+    references_lines(&mut o, case, s);
+    let _ = writeln!(o);
+    cost_lines(&mut o, s);
+    o
+}
+
+/// The label, the tube and its crush, and the shape functions that ran.
+fn scene_lines(o: &mut String, case: &Case) {
+    let spec = case.spec();
     let loading = match spec.loading.mode {
         LoadingMode::Axial => "axial",
         LoadingMode::Lateral => "lateral",
     };
-    // Writing to a String cannot fail; the results are ignored.
     if let Some(label) = &spec.label {
         let _ = writeln!(o, "{label}");
     }
@@ -49,18 +65,26 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         shape.default_reason.as_deref().unwrap_or(shape.kind.name())
     );
     let _ = writeln!(o);
-    if let Some(v) = &s.verdict {
-        let _ = writeln!(o, "  verdict          {}", verdict_line(v, s));
-        for reason in &v.reasons {
-            let _ = writeln!(
-                o,
-                "                   {} ({}): {}",
-                reason.level.name(),
-                reason.rule.name(),
-                reason.detail
-            );
-        }
+}
+
+/// The verdict's line and each reason under it.
+fn verdict_lines(o: &mut String, v: &Verdict, s: &Summary) {
+    let _ = writeln!(o, "  verdict          {}", verdict_line(v, s));
+    for reason in &v.reasons {
+        let _ = writeln!(
+            o,
+            "                   {} ({}): {}",
+            reason.level.name(),
+            reason.rule.name(),
+            reason.detail
+        );
     }
+}
+
+/// The mean load against the primary reference, its error bar and expected error, the peak,
+/// the first collapse peak and the mean after it.
+fn load_lines(o: &mut String, s: &Summary) {
+    let r = &s.references;
     let against = match r.primary_n() {
         Some(p) => format!(
             "{} x {} {}",
@@ -71,6 +95,38 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         None => "no closed form reaches this crush".into(),
     };
     let _ = writeln!(o, "  mean load        {}   ({against})", kn(s.mean_load_n));
+    error_bar_lines(o, s);
+    if let Some(e) = &s.expected_error {
+        let size = e
+            .percent
+            .map_or_else(|| "none".to_string(), |p| format!("±{p:.1} %"));
+        let _ = writeln!(o, "  expected error   {size}   ({})", e.basis);
+    }
+    let _ = writeln!(
+        o,
+        "  peak load        {}   (the largest, over the whole crush)",
+        kn(s.peak_load_n)
+    );
+    let m = &s.measures;
+    match (m.first_peak_load_n, m.first_peak_displacement_mm) {
+        (Some(p), Some(u)) => {
+            let _ = writeln!(o, "  first peak       {}   at {u:.2} mm", kn(p));
+        }
+        _ => {
+            let _ = writeln!(o, "  first peak       none (the load never drops)");
+        }
+    }
+    if let (Some(after), Some(cfe)) = (m.mean_load_after_first_peak_n, m.crush_force_efficiency) {
+        let _ = writeln!(
+            o,
+            "  mean after it    {}   crush-force efficiency {cfe:.2}",
+            kn(after)
+        );
+    }
+}
+
+/// The priced error bar of the mean load and the first collapse peak, or why there is none.
+fn error_bar_lines(o: &mut String, s: &Summary) {
     match &s.error_bar {
         Some(ErrorBar::ReducedLadder(l)) => {
             let _ = writeln!(
@@ -107,33 +163,11 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         }
         None => {}
     }
-    if let Some(e) = &s.expected_error {
-        let size = e
-            .percent
-            .map_or_else(|| "none".to_string(), |p| format!("±{p:.1} %"));
-        let _ = writeln!(o, "  expected error   {size}   ({})", e.basis);
-    }
-    let _ = writeln!(
-        o,
-        "  peak load        {}   (the largest, over the whole crush)",
-        kn(s.peak_load_n)
-    );
+}
+
+/// The energy absorbed, the tube's mass and specific energy, the mass scaling, the crush.
+fn measure_lines(o: &mut String, s: &Summary) {
     let m = &s.measures;
-    match (m.first_peak_load_n, m.first_peak_displacement_mm) {
-        (Some(p), Some(u)) => {
-            let _ = writeln!(o, "  first peak       {}   at {u:.2} mm", kn(p));
-        }
-        _ => {
-            let _ = writeln!(o, "  first peak       none (the load never drops)");
-        }
-    }
-    if let (Some(after), Some(cfe)) = (m.mean_load_after_first_peak_n, m.crush_force_efficiency) {
-        let _ = writeln!(
-            o,
-            "  mean after it    {}   crush-force efficiency {cfe:.2}",
-            kn(after)
-        );
-    }
     let _ = writeln!(
         o,
         "  energy absorbed  {:.3} J   ({:.3} J dissipated: plastic + friction)",
@@ -145,7 +179,18 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         "  tube mass        {:.2} g   specific energy absorption {:.3} J/g",
         m.tube_mass_g, m.specific_energy_absorption_j_per_g
     );
+    if let Some(scaling) = m.mass_scaling {
+        let _ = writeln!(
+            o,
+            "  mass scaling     f {}: {:.2} g added in the equations of motion only",
+            scaling.factor, scaling.added_mass_g
+        );
+    }
     let _ = writeln!(o, "  crush distance   {:.2} mm", s.crush_distance_mm);
+}
+
+/// The folds, the mode with its reason and the figures the mode rule read.
+fn mode_lines(o: &mut String, s: &Summary, detail: &ModeDetail) {
     let _ = writeln!(
         o,
         "  folds            {} (from the shape; {} load drops)",
@@ -205,6 +250,10 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
             detail.two_lobe_decay_mm
         );
     }
+}
+
+/// The energy balance, every term of the books, the kinetic ratio and the unloaded travel.
+fn book_lines(o: &mut String, s: &Summary) {
     let _ = writeln!(
         o,
         "  energy balance   {:.2} % error",
@@ -235,9 +284,11 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         s.longest_unloaded_mm,
         100.0 * UNLOADED_FRACTION
     );
-    let _ = writeln!(o);
-    references_lines(&mut o, case, s);
-    let _ = writeln!(o);
+}
+
+/// The run's particles, steps, time step range, wall time and rate.
+fn cost_lines(o: &mut String, s: &Summary) {
+    let c = &s.cost;
     let _ = writeln!(
         o,
         "cost: {} particles, {} steps, dt {} .. {} ms",
@@ -251,7 +302,6 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
         "      wall {:.1} s, {:.3e} particle-steps/s on {} threads",
         c.wall_time_s, c.particle_steps_per_s, c.threads
     );
-    o
 }
 
 /// The verdict's level, and for a trusted run what that holds it to: no rule flagged it, and

@@ -231,3 +231,48 @@ fn a_blow_up_is_diagnosed_with_the_particle_and_step() {
     assert_eq!(step, 1);
     assert!(what.contains("not finite"), "{what}");
 }
+
+/// Mass scaling is a change of time scale for a rate-independent wall: with the density f
+/// times larger, the plate at v moves every particle as the real density does with the plate
+/// at √f·v. The time step grows by √f (Δt = α·cell / (c/√f + |v|) = √f · α·cell / (c + √f|v|)),
+/// so both runs take the same steps over the same plate travel, every load and energy is the
+/// same up to rounding, and only the clock runs √f times slower. f = 4 against a plate twice
+/// as fast; rounding alone separates the two.
+#[test]
+fn mass_scaling_by_f_is_the_same_crush_as_the_plate_root_f_times_faster() {
+    let scaled = case(
+        r#"{"discretization": {"particles_through_thickness": 2, "mass_scaling": 4},
+             "loading": {"crush_distance_mm": 6}, "output": {"history_points": 60}}"#,
+    );
+    let faster = case(
+        r#"{"discretization": {"particles_through_thickness": 2},
+             "loading": {"crush_distance_mm": 6, "plate_speed_m_s": 20},
+             "output": {"history_points": 60}}"#,
+    );
+    let (a, b) = (run_on(&scaled, 2), run_on(&faster, 2));
+    let steps = (a.summary.cost.steps as f64, b.summary.cost.steps as f64);
+    assert!((steps.0 - steps.1).abs() <= 1.0, "steps {steps:?}");
+    let peak = b.summary.peak_load_n;
+    let (mut load_gap, mut energy_gap) = (0.0_f64, 0.0_f64);
+    assert_eq!(a.history.len(), b.history.len());
+    for (ra, rb) in a.history.iter().zip(&b.history) {
+        assert!((ra.displacement_mm - rb.displacement_mm).abs() < 1e-9);
+        assert!((ra.time_ms - 2.0 * rb.time_ms).abs() < 1e-9 * rb.time_ms.max(1.0));
+        load_gap = load_gap.max((ra.load_top_n - rb.load_top_n).abs() / peak);
+        let work = rb.work_top_mj.max(1e-12);
+        energy_gap = energy_gap
+            .max((ra.kinetic_mj - rb.kinetic_mj).abs() / work)
+            .max((ra.internal_mj - rb.internal_mj).abs() / work);
+    }
+    eprintln!("load gap {load_gap:.3e} of the peak, energy gap {energy_gap:.3e} of the work");
+    assert!(load_gap < 1e-6, "loads apart by {load_gap:e} of the peak");
+    assert!(
+        energy_gap < 1e-6,
+        "energies apart by {energy_gap:e} of the work"
+    );
+    let added = a.summary.measures.mass_scaling.expect("reported");
+    assert_eq!(added.factor, 4.0);
+    let mass = a.summary.measures.tube_mass_g;
+    assert!((added.added_mass_g - 3.0 * mass).abs() < 1e-9 * mass);
+    assert_eq!(b.summary.measures.mass_scaling, None);
+}

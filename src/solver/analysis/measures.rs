@@ -34,6 +34,19 @@ pub struct Measures {
     /// The energy the wall dissipated, mJ: plastic work plus friction at the plates (the rest
     /// of the plates' work is kinetic and elastic energy, the contact's catch and the residual).
     pub energy_dissipated_mj: f64,
+    /// The case's mass scaling and the mass it adds; absent from a run without it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<MassScaling>,
+}
+
+/// A mass-scaled run's scaling: the density's factor in the equations of motion, and the
+/// mass that adds to the tube's there (every particle alike, since the lattice is uniform).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct MassScaling {
+    /// f, the case's `discretization.mass_scaling`.
+    pub factor: f64,
+    /// (f − 1) times the tube's mass, g.
+    pub added_mass_g: f64,
 }
 
 impl Measures {
@@ -60,6 +73,13 @@ impl Measures {
             mean_load_after_first_peak_n: after,
             crush_force_efficiency: first.and_then(|(_, p)| (p > 0.0).then_some(mean_load_n / p)),
             energy_dissipated_mj: books.plastic_mj + books.friction_mj,
+            mass_scaling: {
+                let factor = spec.discretization.mass_scaling;
+                (factor != 1.0).then_some(MassScaling {
+                    factor,
+                    added_mass_g: (factor - 1.0) * tube_mass_g,
+                })
+            },
         }
     }
 }

@@ -278,23 +278,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     );
     detail.slices = slices.len() as u32;
 
-    let folded: Vec<&Slice> = slices
-        .iter()
-        .zip(turned_shares(&slices))
-        .filter(|(s, turned)| *turned >= TURNED_SHARE && s.rms() >= FOLDED_MIN_T * t)
-        .map(|(s, _)| s)
-        .collect();
-    let used: Vec<&Slice> = if folded.is_empty() {
-        slices.iter().collect()
-    } else {
-        folded.clone()
-    };
-    detail.folded_slices = folded.len() as u32;
-    if !used.is_empty() {
-        for (m, a) in detail.harmonic_amplitude_mm.iter_mut().enumerate() {
-            *a = used.iter().map(|s| s.amplitude(m)).sum::<Real>() / used.len() as Real;
-        }
-    }
+    let any_folded = fold_harmonics(&slices, t, &mut detail);
     detail.bend_mm = max_drift(&slices);
     detail.max_drift_mm = detail.bend_mm.max(max_axis_offset(&slices));
     detail.end_lift_mm = end_lifts(snapshot, axes, case.spacing_mm());
@@ -325,6 +309,50 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     // A drift of half a diameter is a global collapse whatever the folds did: a tube that tipped
     // over and was flattened has radial displacements larger than its drift (seen on the
     // t = 1.27, d = 12 example, which was first misread as a ring).
+    if let Some(mode) = global_collapse(&mut detail, max_fold) {
+        return (mode, detail);
+    }
+    if rectangular {
+        let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
+        let (mode, counts, reason) = rectangular::decide(&faces, FOLDED_MIN_T * t);
+        detail.faces = Some(counts);
+        detail.folded_slices = counts.total();
+        detail.reason = reason;
+        return (mode, detail);
+    }
+    let mode = ring_or_diamond(&mut detail, any_folded);
+    (mode, detail)
+}
+
+/// Reads the harmonics of the folded slices (of every slice where none folded) into
+/// `detail`, with the count of folded slices; whether any slice folded. A slice is folded when
+/// at least [`TURNED_SHARE`] of its wall turned and its RMS radial displacement reaches
+/// [`FOLDED_MIN_T`] · t.
+fn fold_harmonics(slices: &[Slice], t: Real, detail: &mut ModeDetail) -> bool {
+    let folded: Vec<&Slice> = slices
+        .iter()
+        .zip(turned_shares(slices))
+        .filter(|(s, turned)| *turned >= TURNED_SHARE && s.rms() >= FOLDED_MIN_T * t)
+        .map(|(s, _)| s)
+        .collect();
+    let used: Vec<&Slice> = if folded.is_empty() {
+        slices.iter().collect()
+    } else {
+        folded.clone()
+    };
+    detail.folded_slices = folded.len() as u32;
+    if !used.is_empty() {
+        for (m, a) in detail.harmonic_amplitude_mm.iter_mut().enumerate() {
+            *a = used.iter().map(|s| s.amplitude(m)).sum::<Real>() / used.len() as Real;
+        }
+    }
+    !folded.is_empty()
+}
+
+/// Global buckling or tipping over, when the centre line drifted past its threshold: tipped
+/// over where an end left its plate and the line stayed straight, else buckled. Writes the
+/// reason into `detail`; `max_fold`: the largest fold amplitude, mm, for the reason.
+fn global_collapse(detail: &mut ModeDetail, max_fold: Real) -> Option<CollapseMode> {
     if detail.max_drift_mm > detail.drift_threshold_mm {
         let [bottom, top] = detail.end_lift_mm;
         let left = bottom.max(top) > detail.end_lift_threshold_mm;
@@ -349,21 +377,19 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             true => CollapseMode::TippedOver,
             false => CollapseMode::GlobalBuckling,
         };
-        return (mode, detail);
+        return Some(mode);
     }
-    if rectangular {
-        let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
-        let (mode, counts, reason) = rectangular::decide(&faces, FOLDED_MIN_T * t);
-        detail.faces = Some(counts);
-        detail.folded_slices = counts.total();
-        detail.reason = reason;
-        return (mode, detail);
-    }
+    None
+}
+
+/// A round tube that folded in place: rings where the axisymmetric amplitude is at least the
+/// largest lobed harmonic's, else a diamond with that harmonic's lobes. Writes the reason.
+fn ring_or_diamond(detail: &mut ModeDetail, any_folded: bool) -> CollapseMode {
     let amp = &detail.harmonic_amplitude_mm;
     let (lobes, lobe_amp) = (2..=MAX_HARMONIC)
         .map(|m| (m, amp[m]))
         .fold((2, Real::MIN), |b, c| if c.1 > b.1 { c } else { b });
-    let unfolded = if folded.is_empty() {
+    let unfolded = if !any_folded {
         "; no slice folded, all slices used"
     } else {
         ""
@@ -373,18 +399,15 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             "axisymmetric amplitude {:.3} mm >= harmonic {lobes} amplitude {:.3} mm{unfolded}",
             amp[0], lobe_amp
         );
-        (CollapseMode::Ring, detail)
+        CollapseMode::Ring
     } else {
         detail.reason = format!(
             "harmonic {lobes} amplitude {:.3} mm > axisymmetric amplitude {:.3} mm{unfolded}",
             lobe_amp, amp[0]
         );
-        (
-            CollapseMode::Diamond {
-                lobes: lobes as u32,
-            },
-            detail,
-        )
+        CollapseMode::Diamond {
+            lobes: lobes as u32,
+        }
     }
 }
 

@@ -74,6 +74,8 @@ pub enum Rule {
     /// Linear shape functions: where the folds start, the mode and the mean load follow the
     /// wall's motion through the grid, not the load alone.
     FrameDependent,
+    /// A mass-scaled run whose inertia, grown with the scaled mass, carries part of the load.
+    MassScaled,
 }
 
 impl Rule {
@@ -92,6 +94,7 @@ impl Rule {
             Rule::OvalisedWall => "ovalised_wall",
             Rule::FlattenedEnd => "flattened_end",
             Rule::FrameDependent => "frame_dependent",
+            Rule::MassScaled => "mass_scaled",
         }
     }
 }
@@ -151,6 +154,9 @@ pub const BALANCE_NOT_TRUSTED: f64 = 0.05;
 pub const KINETIC_CAUTION: f64 = 0.05;
 /// ... and beyond which the load is mostly inertia's (not trusted).
 pub const KINETIC_NOT_TRUSTED: f64 = 0.25;
+/// E_kin / E_int beyond which a mass-scaled run is not trusted: the scaling's only cost is
+/// inertia, so a run that asked for it is held to the quasi-static bound itself.
+pub const MASS_SCALED_KINETIC: f64 = KINETIC_CAUTION;
 
 /// The reasons that can be told before the case runs.
 pub fn foreseen(case: &Case) -> Vec<Reason> {
@@ -372,7 +378,23 @@ pub fn of_run(case: &Case, run: &RunFigures, detail: &ModeDetail) -> Verdict {
         });
     }
     let k = run.kinetic_to_internal;
-    if let Some((level, _)) = graded(k, KINETIC_CAUTION, KINETIC_NOT_TRUSTED) {
+    let scaling = case.spec().discretization.mass_scaling;
+    if scaling > 1.0 {
+        if k > MASS_SCALED_KINETIC {
+            reasons.push(Reason {
+                rule: Rule::MassScaled,
+                level: Level::NotTrusted,
+                detail: format!(
+                    "lower discretization.mass_scaling ({scaling}) or the plate speed: with the \
+                     density scaled, kinetic energy reaches {:.0} % of the internal energy in \
+                     the second half of the crush (over {:.0} %), so inertia carries part of \
+                     the load",
+                    100.0 * k,
+                    100.0 * MASS_SCALED_KINETIC
+                ),
+            });
+        }
+    } else if let Some((level, _)) = graded(k, KINETIC_CAUTION, KINETIC_NOT_TRUSTED) {
         reasons.push(Reason {
             rule: Rule::NotQuasiStatic,
             level,

@@ -21,7 +21,8 @@ use crate::solver::Real;
 pub struct Scene {
     pub particles: Particles,
     pub material: MaterialLaw,
-    /// Density of the undeformed material, g/mm³ (for the wave speed).
+    /// Density of the undeformed material in the equations of motion, g/mm³ (for the wave
+    /// speed): the material's times the case's mass scaling.
     pub density: Real,
     pub plates: Vec<Plate>,
     pub friction: Real,
@@ -44,7 +45,7 @@ impl Scene {
         let spec = case.spec();
         let geometry = case.geometry();
         let h = case.spacing_mm();
-        let rho = spec.material.density_kg_m3 * 1e-6;
+        let rho = spec.material.density_kg_m3 * 1e-6 * spec.discretization.mass_scaling;
         let mut particles = Particles::default();
         particles.x.reserve_exact(case.particle_count() as usize);
         geometry.each_point(|x, vol| particles.push(x, rho * vol, vol));

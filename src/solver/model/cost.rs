@@ -5,7 +5,7 @@
 use super::checks::Checker;
 use super::geometry::Geometry;
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
-use super::spec::{wave_speed_m_s, CaseSpec, Section};
+use super::spec::{run_wave_speed_m_s, CaseSpec, Section};
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
 /// least one per history row.
@@ -14,7 +14,7 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     let cell =
         spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
     let speed = spec.loading.plate_speed_m_s;
-    let dt_ms = d.cfl * cell / (wave_speed_m_s(&spec.material) + speed);
+    let dt_ms = d.cfl * cell / (run_wave_speed_m_s(spec) + speed);
     let steps = crush_mm / speed / dt_ms;
     // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
     // underflow over a Δt of 0) is too many, not one (both found by tests/solver/case_fuzz.rs).

@@ -136,6 +136,19 @@ fn kinetic_energy_above_5_percent_of_the_internal_is_not_quasi_static() {
 }
 
 #[test]
+fn a_mass_scaled_run_is_not_trusted_past_5_percent_kinetic_energy_in_place_of_the_quasi_static_rule(
+) {
+    let scaled = case(r#"{"discretization": {"mass_scaling": 16}}"#);
+    let found = |k: f64| rules(&of_run(&scaled, &summary(0.0, k), &ModeDetail::default()).reasons);
+    assert_eq!(found(0.04), []);
+    assert_eq!(found(0.06), [(Rule::MassScaled, Level::NotTrusted)]);
+    assert_eq!(found(0.3), [(Rule::MassScaled, Level::NotTrusted)]);
+    let unscaled = case("{}");
+    let found = rules(&of_run(&unscaled, &summary(0.0, 0.06), &ModeDetail::default()).reasons);
+    assert_eq!(found, [(Rule::NotQuasiStatic, Level::Caution)]);
+}
+
+#[test]
 fn a_blow_up_is_not_trusted_and_the_verdict_is_its_worst_reason() {
     let v = Verdict::unstable("kinetic energy exceeds the work done by the plates");
     assert_eq!(v.level, Level::NotTrusted);
@@ -484,6 +497,7 @@ fn every_reason_starts_with_what_to_do_and_stays_a_sentence() {
         "set",
         "slow",
         "check",
+        "lower",
     ];
     let foreseen_cases = [
         r#"{"discretization": {"particles_through_thickness": 1}}"#,
@@ -513,12 +527,14 @@ fn every_reason_starts_with_what_to_do_and_stays_a_sentence() {
     s.mode = CollapseMode::TippedOver;
     s.longest_unloaded_mm = 20.5;
     reasons.extend(of_run(&c, &s, &ModeDetail::default()).reasons);
+    let scaled = case(r#"{"discretization": {"mass_scaling": 16}}"#);
+    reasons.extend(of_run(&scaled, &summary(0.0, 0.08), &ModeDetail::default()).reasons);
     let mut seen: Vec<Rule> = reasons.iter().map(|r| r.rule).collect();
     seen.sort_by_key(|r| r.name());
     seen.dedup();
     assert_eq!(
         seen.len(),
-        11,
+        12,
         "every rule but unstable triggered: {seen:?}"
     );
     for r in &reasons {
@@ -550,6 +566,7 @@ fn every_rule_and_level() -> (Vec<Rule>, Vec<Level>) {
         Rule::OvalisedWall,
         Rule::FlattenedEnd,
         Rule::FrameDependent,
+        Rule::MassScaled,
     ];
     for r in &rules {
         match r {
@@ -564,7 +581,8 @@ fn every_rule_and_level() -> (Vec<Rule>, Vec<Level>) {
             | Rule::Unloaded
             | Rule::OvalisedWall
             | Rule::FlattenedEnd
-            | Rule::FrameDependent => {}
+            | Rule::FrameDependent
+            | Rule::MassScaled => {}
         }
     }
     let levels = vec![Level::Trusted, Level::Caution, Level::NotTrusted];

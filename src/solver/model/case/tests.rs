@@ -759,3 +759,48 @@ fn a_cost_over_its_limit_names_the_field_that_drives_it_first_with_its_value() {
     assert_eq!(long[0].field, "tube.length_mm", "{long:?}");
     assert!(long[0].reason.contains("particles"), "{long:?}");
 }
+
+#[test]
+fn mass_scaling_outside_1_to_100_is_refused_and_within_it_cuts_the_steps_by_its_root() {
+    for bad in ["0.5", "101", "-4", "0"] {
+        let text = format!(r#"{{"discretization": {{"mass_scaling": {bad}}}}}"#);
+        let Err(CaseError::Invalid(errors)) = Case::from_json(&text, &Limits::default()) else {
+            panic!("accepted mass scaling {bad}")
+        };
+        assert!(
+            errors
+                .iter()
+                .any(|e| e.field == "discretization.mass_scaling"),
+            "{bad}: {errors:?}"
+        );
+    }
+    let steps = |f: f64| {
+        let text = format!(r#"{{"discretization": {{"mass_scaling": {f}}}}}"#);
+        Case::from_json(&text, &Limits::default())
+            .unwrap()
+            .step_count() as f64
+    };
+    for f in [4.0, 16.0, 100.0] {
+        let ratio = steps(1.0) / steps(f);
+        // Δt = α·cell / (c/√f + v): the plate's 10 m/s beside c/√f keeps the gain a little
+        // under √f (c is 2 400 m/s for the paper's PVC, so under 1 % at f = 16, 4 % at 100).
+        assert!(
+            ratio <= f.sqrt() && ratio > 0.95 * f.sqrt(),
+            "f {f}: steps fell {ratio:.3} times"
+        );
+    }
+}
+
+#[test]
+fn a_plate_over_half_the_mass_scaled_wave_speed_is_refused_naming_the_scaling() {
+    // The paper's PVC: c ≈ 2 400 m/s, so half of it under f = 100 is about 120 m/s.
+    let text = r#"{"discretization": {"mass_scaling": 100}, "loading": {"plate_speed_m_s": 200}}"#;
+    let Err(CaseError::Invalid(errors)) = Case::from_json(text, &Limits::default()) else {
+        panic!("accepted a plate faster than half the scaled wave speed")
+    };
+    let e = errors
+        .iter()
+        .find(|e| e.field == "loading.plate_speed_m_s")
+        .expect("the plate speed named");
+    assert!(e.reason.contains("mass scaling 100"), "{}", e.reason);
+}
