@@ -276,3 +276,43 @@ fn mass_scaling_by_f_is_the_same_crush_as_the_plate_root_f_times_faster() {
     assert!((added.added_mass_g - 3.0 * mass).abs() < 1e-9 * mass);
     assert_eq!(b.summary.measures.mass_scaling, None);
 }
+
+/// A test speed makes a rate law read the test's strain rates on a faster plate: mild steel
+/// (Cowper–Symonds) with the plate at 20 m/s standing for a 10 m/s test is, by the same
+/// change of time scale, the 10 m/s crush mass-scaled by 4 — every strain rate half the
+/// faster plate's, every load the same up to rounding. Without the test speed the faster
+/// plate's doubled rates raise the flow stress, and the loads part by far more.
+#[test]
+fn a_test_speed_gives_the_rate_law_the_test_s_rates_on_a_faster_plate() {
+    let scaled = case(
+        r#"{"material": {"preset": "mild_steel"},
+             "discretization": {"particles_through_thickness": 2, "mass_scaling": 4},
+             "loading": {"crush_distance_mm": 6}, "output": {"history_points": 60}}"#,
+    );
+    let faster = |test: &str| {
+        case(&format!(
+            r#"{{"material": {{"preset": "mild_steel"}},
+                 "discretization": {{"particles_through_thickness": 2}},
+                 "loading": {{"crush_distance_mm": 6, "plate_speed_m_s": 20{test}}},
+                 "output": {{"history_points": 60}}}}"#
+        ))
+    };
+    let a = run_on(&scaled, 2);
+    let gap = |b: &RunOutput| {
+        let peak = b.summary.peak_load_n;
+        a.history
+            .iter()
+            .zip(&b.history)
+            .map(|(ra, rb)| (ra.load_top_n - rb.load_top_n).abs() / peak)
+            .fold(0.0, f64::max)
+    };
+    let with_test = run_on(&faster(r#", "test_speed_m_s": 10"#), 2);
+    let without = run_on(&faster(""), 2);
+    let (same, apart) = (gap(&with_test), gap(&without));
+    eprintln!("loads apart by {same:.3e} with the test speed, {apart:.3e} without, of the peak");
+    assert!(same < 1e-6, "with the test speed: {same:e}");
+    assert!(
+        apart > 1e-3,
+        "without it the rates should differ: {apart:e}"
+    );
+}

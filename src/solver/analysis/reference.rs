@@ -133,7 +133,7 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
     let deruntz_hodge_initial_n = deruntz_hodge(t, d, l, sy, 0.0);
     let deruntz_hodge_mean_n = deruntz_hodge_mean(t, d, l, sy, u);
     let euler_clamped_n = euler_clamped(t, d, l, e);
-    let strain_rate_per_s = mean_strain_rate_per_s(spec.loading.plate_speed_m_s, d);
+    let strain_rate_per_s = mean_strain_rate_per_s(spec.loading.material_speed_m_s(), d);
     let metal = MetalTube::of(
         t,
         d,

@@ -54,7 +54,7 @@ impl Scene {
         let cell = case.cell_mm();
         let mut scene = Scene {
             particles,
-            material: MaterialLaw::of(&spec.material),
+            material: MaterialLaw::of(&spec.material).at_rates_scaled(spec.loading.rate_scale()),
             density: rho,
             plates: vec![
                 Plate {

@@ -201,6 +201,15 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
             ),
         );
     }
+    if let Some(test) = l.test_speed_m_s {
+        if !(test.is_finite() && test > 0.0 && test <= l.plate_speed_m_s) {
+            c.fail(
+                "loading.test_speed_m_s",
+                "must be a speed above 0 and at most the plate speed, m/s: the test's own \
+                 speed, which the plate runs faster than to save steps (empty: the plate's)",
+            );
+        }
+    }
     c.positive("loading.crush_distance_mm", crush);
     let ramp = l.ramp_mm.unwrap_or(DEFAULT_RAMP_MM.min(0.5 * crush));
     if !(ramp.is_finite() && ramp >= 0.0) {

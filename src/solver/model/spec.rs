@@ -159,6 +159,12 @@ pub struct Loading {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(title = "Start ramp", description = "Travel over which the plate comes up to speed (velocity rising linearly in time); 0 starts it at full speed, an impact. Empty: 0.5 mm, or half the crush distance if less. At most the crush distance.", range(min = 0), extend("x-unit" = "mm"))]
     pub ramp_mm: Option<f64>,
+    /// The speed of the test the case stands for, when the plate runs faster than it to save
+    /// steps, m/s: a rate law then reads every strain rate scaled by test / plate speed, the
+    /// rate the test's wall saw. Omitted: the plate's speed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Test speed", description = "The speed of the test this case stands for, when the plate runs faster than it to save steps (a quasi-static test run at 10 m/s): a strain-rate law then reads each strain rate times test / plate speed, the rate the test saw, and the verdict holds kinetic energy to 5 % of the internal. At most the plate speed. Empty: the plate's speed.", extend("x-unit" = "m/s", "exclusiveMinimum" = 0))]
+    pub test_speed_m_s: Option<f64>,
 }
 
 /// The default plate-speed ramp, mm: the shortest of those measured that brings the start
@@ -166,6 +172,19 @@ pub struct Loading {
 pub const DEFAULT_RAMP_MM: f64 = 0.5;
 
 impl Loading {
+    /// The speed whose strain rates the material sees, m/s: the test's where the case gives
+    /// one, else the plate's.
+    pub fn material_speed_m_s(&self) -> f64 {
+        self.test_speed_m_s.unwrap_or(self.plate_speed_m_s)
+    }
+
+    /// The factor a rate law's strain rates are read at: test / plate speed, 1 without a test
+    /// speed.
+    pub fn rate_scale(&self) -> f64 {
+        self.test_speed_m_s
+            .map_or(1.0, |test| test / self.plate_speed_m_s)
+    }
+
     /// The crush distance, or the mode's default when the case names none, mm: 50 axial,
     /// 12.5 lateral.
     pub fn crush_distance_or_default(&self) -> f64 {
@@ -183,6 +202,7 @@ impl Default for Loading {
             plate_speed_m_s: 10.0,
             crush_distance_mm: None,
             ramp_mm: None,
+            test_speed_m_s: None,
         }
     }
 }

@@ -76,7 +76,7 @@ pub fn references(case: &Case, section: &Rectangle) -> RectangularReferences {
     let sigma = spec.material.flow_stresses().flow();
     let half_fold = half_fold_length(t, c);
     // V in m/s is mm/ms: 1000 V / c per second.
-    let strain_rate = STRAIN_RATE_FACTOR * 1000.0 * spec.loading.plate_speed_m_s / c;
+    let strain_rate = STRAIN_RATE_FACTOR * 1000.0 * spec.loading.material_speed_m_s() / c;
     let factor = spec.material.rate_factor(strain_rate);
     let rate_law = spec.material.rate != RateKind::None;
     let aj = abramowicz_jones(t, c, sigma);

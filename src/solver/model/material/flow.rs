@@ -200,6 +200,22 @@ impl Rate {
         }
     }
 
+    /// The law read at every strain rate times `scale`: R(scale · ε̇), by dividing its rate
+    /// constant (Cowper–Symonds' D, Johnson–Cook's ε̇₀) by `scale`. 1 leaves it as it is.
+    pub fn at_rates_scaled(self, scale: Real) -> Rate {
+        match self {
+            Rate::None => Rate::None,
+            Rate::CowperSymonds { d, inverse_q } => Rate::CowperSymonds {
+                d: d / scale,
+                inverse_q,
+            },
+            Rate::JohnsonCook { c, reference } => Rate::JohnsonCook {
+                c,
+                reference: reference / scale,
+            },
+        }
+    }
+
     /// R(ε̇) and dR/dε̇ (ms) at the plastic strain rate `rate` ≥ 0 (1/ms).
     #[inline]
     pub fn at(&self, rate: Real) -> (Real, Real) {

@@ -179,6 +179,18 @@ impl MaterialLaw {
         }
     }
 
+    /// The law with its rate law read at every strain rate times `scale`
+    /// ([`Rate::at_rates_scaled`]): a case run faster than its test sees the test's rates.
+    pub fn at_rates_scaled(self, scale: Real) -> MaterialLaw {
+        match self {
+            MaterialLaw::Metal(mut metal) => {
+                metal.rate = metal.rate.at_rates_scaled(scale);
+                MaterialLaw::Metal(metal)
+            }
+            law => law,
+        }
+    }
+
     /// P-wave (constrained) modulus λ + 2G, MPa.
     pub fn p_wave_modulus(&self) -> Real {
         struct Modulus;
