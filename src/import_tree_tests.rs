@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The folders held to be trees, under src/.
-const FOLDERS: [&str; 1] = ["solver/analysis"];
+const FOLDERS: [&str; 2] = ["solver/analysis", "solver/engine"];
 
 /// A module's path from the crate root (`["solver", "analysis", "summary"]`).
 type ModPath = Vec<String>;
