@@ -13,7 +13,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The folders held to be trees, under src/.
-const FOLDERS: [&str; 4] = ["solver/analysis", "solver/engine", "solver/model", "cli"];
+const FOLDERS: [&str; 5] = [
+    "solver/analysis",
+    "solver/engine",
+    "solver/model",
+    "cli",
+    "plot",
+];
 
 /// A module's path from the crate root (`["solver", "analysis", "summary"]`).
 type ModPath = Vec<String>;
