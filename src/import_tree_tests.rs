@@ -13,12 +13,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The folders held to be trees, under src/.
-const FOLDERS: [&str; 5] = [
+const FOLDERS: [&str; 7] = [
     "solver/analysis",
     "solver/engine",
     "solver/model",
     "cli",
     "plot",
+    "study",
+    "export",
 ];
 
 /// A module's path from the crate root (`["solver", "analysis", "summary"]`).
