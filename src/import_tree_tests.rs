@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The folders held to be trees, under src/.
-const FOLDERS: [&str; 7] = [
+const FOLDERS: [&str; 8] = [
     "solver/analysis",
     "solver/engine",
     "solver/model",
@@ -21,6 +21,7 @@ const FOLDERS: [&str; 7] = [
     "plot",
     "study",
     "export",
+    "service",
 ];
 
 /// A module's path from the crate root (`["solver", "analysis", "summary"]`).
