@@ -13,7 +13,16 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The folders held to be trees, under src/.
-const FOLDERS: [&str; 1] = ["solver/analysis"];
+const FOLDERS: [&str; 8] = [
+    "solver/analysis",
+    "solver/engine",
+    "solver/model",
+    "cli",
+    "plot",
+    "study",
+    "export",
+    "service",
+];
 
 /// A module's path from the crate root (`["solver", "analysis", "summary"]`).
 type ModPath = Vec<String>;

@@ -2,9 +2,9 @@
 //! its error bar's ladder when it asks for one) and what its verdict can say before it runs,
 //! without running it. The same answer as `POST /v1/estimate`; `--json` prints that JSON.
 
+use super::args::EstimateArgs;
 use super::progress::clock;
 use super::run::{read_case, thread_count};
-use super::EstimateArgs;
 use crate::solver::estimate as solver_estimate;
 
 pub fn estimate(args: EstimateArgs) -> anyhow::Result<()> {

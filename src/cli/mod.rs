@@ -5,6 +5,7 @@
 //! bench-plan` holds its wall-time guesses to measured runs); `crush bench` measures the solver's speed and memory; `crush study` runs convergence,
 //! stability and plate-speed studies.
 
+mod args;
 mod bench;
 mod estimate;
 mod output;
@@ -16,6 +17,7 @@ mod run;
 mod series;
 mod study;
 
+pub use args::{EstimateArgs, RunArgs};
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
 pub use estimate::estimate;
 pub use output::{write_history_csv, write_summary_json, SummaryFile};
@@ -24,49 +26,6 @@ pub use plan_bench::{bench_plan, BenchPlanArgs};
 pub use report::format_report;
 pub use run::run;
 pub use study::{study, StudyArgs};
-
-use std::path::PathBuf;
-
-/// Arguments of `crush run`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct RunArgs {
-    /// The crush case, as JSON (see examples/).
-    pub case: PathBuf,
-    /// Where history.csv and summary.json go [default: out/<case file stem>].
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Solver threads [default: all cores].
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Refuse cases with more tube particles than this [default: the server's, 5000000; none
-    /// with --no-limits].
-    #[arg(long)]
-    pub max_particles: Option<u64>,
-    /// Run a case past the cost limits `crush serve` applies by default (particles, time
-    /// steps, particle-steps; `crush serve --help`), which `crush run` otherwise holds it to.
-    #[arg(long)]
-    pub no_limits: bool,
-    /// Price the mean load's error bar after the run (the tube's section at three
-    /// resolutions), as the case's `output.error_bar` does.
-    #[arg(long)]
-    pub error_bar: bool,
-}
-
-/// Arguments of `crush estimate`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct EstimateArgs {
-    /// The crush case, as JSON (see examples/).
-    pub case: PathBuf,
-    /// Solver threads the estimate is for [default: all cores].
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Refuse cases with more tube particles than this.
-    #[arg(long, default_value_t = crate::solver::Limits::default().max_particles)]
-    pub max_particles: u64,
-    /// Print the estimate as the JSON `POST /v1/estimate` answers.
-    #[arg(long)]
-    pub json: bool,
-}
 
 #[cfg(test)]
 mod tests {

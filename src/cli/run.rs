@@ -4,6 +4,7 @@
 //!
 //! What it prints and writes is the solver's own summary and mode detail: one source.
 
+use super::args::RunArgs;
 use super::output::{
     write_energy_svg, write_history_csv, write_load_svg, write_particles_csv, write_shape_png,
     write_state_vtu, write_summary_json, SummaryFile,
@@ -11,7 +12,6 @@ use super::output::{
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::series::{RunObserver, SeriesFiles};
-use super::RunArgs;
 use crate::solver::{cores, estimate, Case, Limits, Runner, SolveError};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};

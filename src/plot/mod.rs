@@ -1,16 +1,18 @@
 //! Line plots as SVG and PNG, and the deformed tube as PNG ([`tube_png`]), with plotters. Their
 //! text is set in DejaVu Sans, compiled into the binary.
 
+mod font;
 mod shape;
 
 pub use shape::tube_png;
+
+use font::font;
 
 use anyhow::Context;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
-use std::sync::OnceLock;
 
 /// One named line.
 #[derive(Debug, Clone)]
@@ -28,18 +30,6 @@ pub struct Level {
 
 /// Series with at most this many points get a marker at each: more would hide the line.
 const MARKED_UP_TO: usize = 25;
-
-/// DejaVu Sans, compiled in (its licence: `assets/fonts/LICENSE-DejaVu.txt`), so that every
-/// plot has its text on any machine.
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-
-/// Registers the embedded font as "sans-serif" once; false only if it would not load.
-pub(crate) fn font() -> bool {
-    static LOADED: OnceLock<bool> = OnceLock::new();
-    *LOADED.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
-    })
-}
 
 /// Draws `series` and the dashed `levels` as an SVG document in memory (for the service). See
 /// [`lines`].

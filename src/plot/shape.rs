@@ -6,7 +6,7 @@
 //! projection, far particles drawn first. The side and section views show the plates where
 //! the crush left them, and every view has a scale bar in mm. Lengths in mm.
 
-use super::font;
+use super::font::font;
 use crate::solver::model::case::{Geometry, LoadingMode, Model};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -57,7 +57,7 @@ pub fn schemas() -> Map<String, Value> {
     let mut all = responses.take_definitions(true);
     // The request side's reading of a shared type (the case, inside a job) wins.
     all.extend(requests.take_definitions(true));
-    crate::solver::model::schema::fill_case_defaults(&mut all);
+    crate::solver::model::case_defaults::fill_case_defaults(&mut all);
     all.values_mut().for_each(tidy);
     all
 }

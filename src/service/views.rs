@@ -1,10 +1,14 @@
 //! What clients see of stored records: the job JSON and the final SSE event here, the sweep and
 //! its table in [`sweep`]. Times are RFC 3339 (UTC).
 
+mod formats;
 mod sweep;
 mod time_step;
 
+pub use formats::rfc3339;
 pub use sweep::{SweepListItem, SweepPage, SweepView};
+
+use formats::json;
 
 use super::hub::{final_id, Event};
 use super::store::{JobRecord, Status};
@@ -14,21 +18,6 @@ use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
 use uuid::Uuid;
-
-/// Unix ms → RFC 3339.
-pub fn rfc3339(ms: i64) -> String {
-    time::OffsetDateTime::from_unix_timestamp_nanos(ms as i128 * 1_000_000)
-        .ok()
-        .and_then(|t| {
-            t.format(&time::format_description::well_known::Rfc3339)
-                .ok()
-        })
-        .unwrap_or_default()
-}
-
-fn json(text: Option<&str>) -> Option<Value> {
-    text.and_then(|t| serde_json::from_str(t).ok())
-}
 
 #[derive(Debug, Serialize, JsonSchema)]
 pub struct JobLinks {

@@ -2,7 +2,7 @@
 //! error of mean and peak load against the finest run and a Richardson estimate, against run
 //! time; the load curves overlaid.
 
-use super::{
+use super::cases::{
     pct, plot_load_curves, read_case, run_case, set, threads, write_extrapolations, write_report,
     Failed,
 };

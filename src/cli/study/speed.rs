@@ -2,7 +2,7 @@
 //! independent, so the mean load should barely change; the kinetic-to-internal energy ratio
 //! says how close each run is to quasi-static.
 
-use super::{plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
+use super::cases::{plot_load_curves, read_case, run_case, set, threads, write_report, Failed};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

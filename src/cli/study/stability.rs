@@ -5,7 +5,7 @@
 //! it: the sign of an unstable step), and a run forced past the stability limit (a CFL factor no
 //! case may ask for, set on the scene) that completes instead of being stopped with a diagnosis.
 
-use super::{read_case, run_case, run_case_changed, set, threads, write_report, Failed};
+use super::cases::{read_case, run_case, run_case_changed, set, threads, write_report, Failed};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::PathBuf;

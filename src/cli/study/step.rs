@@ -2,7 +2,7 @@
 //! else the same; the error of the mean and first-peak load against the smallest step and a
 //! Richardson value at Δt → 0, the energy books at each step, against run time.
 
-use super::{
+use super::cases::{
     pct, plot_load_curves, read_case, run_case, set, threads, write_extrapolations, write_report,
     Failed,
 };

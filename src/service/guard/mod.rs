@@ -5,12 +5,14 @@
 //! is declared beside the route in the route table ([`policy`]); the guard looks it up.
 //! [`security_headers`] goes on every answer.
 
+pub mod access;
 pub mod policy;
 pub mod rate;
 pub mod tokens;
 
 use super::error::ApiError;
 use crate::solver::model::input::clip;
+pub use access::Access;
 use axum::extract::{ConnectInfo, Request};
 use axum::http::{header, HeaderMap, HeaderValue, Method};
 use axum::middleware::Next;
@@ -63,15 +65,6 @@ pub struct AccessArgs {
     /// How many of those a client may make at once after a pause.
     #[arg(long, env = "CRUSH_RATE_LIMIT_BURST", default_value_t = NonZeroU32::new(120).unwrap())]
     pub rate_limit_burst: NonZeroU32,
-}
-
-/// Who may reach a route that is open by default.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Access {
-    /// Anyone.
-    Open,
-    /// A token with the read role (or any, when no tokens are configured).
-    Read,
 }
 
 /// Who sent a request: a token's name and role, or anyone when the server has no tokens.

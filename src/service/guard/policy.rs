@@ -6,8 +6,8 @@
 //!
 //! Imports nothing of the routes: the table hands its declarations in.
 
+use super::access::Access;
 use super::tokens::Role;
-use super::Access;
 use axum::http::Method;
 
 /// Who may call a route.

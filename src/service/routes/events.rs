@@ -6,7 +6,8 @@
 //! as "from now on". A client that connects after the end gets the final event at once (or 204
 //! if it has seen it). Every stream ends after the job's final event, whatever the client saw.
 
-use super::{parse_id, AppState};
+use super::inputs::parse_id;
+use super::state::AppState;
 use crate::service::error::ApiError;
 use crate::service::hub::{event_id, last_event_id, Event, Subscription};
 use crate::service::store::{Status, Store};

@@ -1,7 +1,8 @@
 //! `/v1/jobs`: submit, list, read, cancel and delete (what a succeeded job leaves is in
 //! `results`).
 
-use super::{body_error, json_text, page_limit, parse_id, search_text, AppState, HttpLimits};
+use super::inputs::{body_error, json_text, page_limit, parse_id, search_text};
+use super::state::{AppState, HttpLimits};
 use crate::service::error::ApiError;
 use crate::service::guard::Caller;
 use crate::service::store::{CancelOutcome, Deleted, ListFilter, NewJob, Status, Submitted};

@@ -1,7 +1,8 @@
 //! `/healthz`, Prometheus `/metrics`, and `POST /v1/estimate` (its wall times at the rates
 //! measured on this server's finished jobs).
 
-use super::{json_text, AppState};
+use super::inputs::json_text;
+use super::state::AppState;
 use crate::service::error::{ApiError, STORE_RETRY_AFTER_S};
 use crate::service::metrics;
 use crate::service::store::{Status, StoreError};

@@ -1,7 +1,9 @@
 //! The HTTP layer: [`app`] builds the router from one route table (which the contract test
 //! compares with `api/openapi.yaml`); handlers talk only to the store, the hub and the workers.
 
+mod answers;
 mod events;
+mod inputs;
 mod jobs;
 mod misc;
 mod page;
@@ -9,68 +11,22 @@ mod plan;
 mod results;
 mod series;
 mod session;
+mod state;
 mod sweeps;
 
 pub(crate) use plan::PlanRequest;
 pub(crate) use session::{SessionView, SignIn};
+pub use state::{AppState, HttpLimits};
 
-use super::connection::{body_deadline, BodyTimedOut};
+use super::connection::body_deadline;
 use super::error::{ApiError, PROBLEM_JSON};
-use super::guard::{self, Cost, Guard, Policies, Policy, Role, Who};
-use super::hub::Hub;
-use super::store::Store;
-use super::worker::Workers;
+use super::guard::{self, Cost, Policies, Policy, Role, Who};
 use crate::solver::model::input::{clip, user_message};
-use crate::solver::Limits;
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
 use axum::extract::{DefaultBodyLimit, Request};
-use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{delete, get, post, MethodRouter};
 use axum::{middleware, Router};
-use std::sync::Arc;
-use std::time::Duration;
-use tokio::sync::{watch, Semaphore};
-
-/// Limits and settings the handlers apply.
-#[derive(Debug, Clone)]
-pub struct HttpLimits {
-    pub max_body_bytes: usize,
-    /// What a case may cost (particles, steps, particle-steps).
-    pub case: Limits,
-    pub max_queue: u64,
-    pub max_sweep_jobs: usize,
-    pub max_sse_clients: usize,
-    pub keep_alive: Duration,
-    /// How often an SSE stream re-reads the job from the store (catches what the hub cannot:
-    /// jobs run by another process).
-    pub sse_poll: Duration,
-    /// Slowest average a heavy download may be taken at, bytes a second (0: any).
-    pub min_download_rate: u64,
-    /// Longest a request body may take to arrive whole.
-    pub body_timeout: Duration,
-}
-
-/// What every handler can reach.
-#[derive(Clone)]
-pub struct AppState {
-    pub store: Store,
-    pub hub: Arc<Hub>,
-    pub workers: Arc<Workers>,
-    pub limits: Arc<HttpLimits>,
-    /// One permit per open SSE stream.
-    pub sse_permits: Arc<Semaphore>,
-    /// One slot per heavy answer being built or sent (VTU file, particle table, frames,
-    /// archive, picture, long history): they cost memory in proportion to the particles or rows.
-    pub heavy: Arc<super::downloads::Slots>,
-    /// Turns at the CPU for handlers that read and check cases and sweeps.
-    pub cpu: super::cpu::CpuGate,
-    /// Becomes true when the server shuts down; open SSE streams end then.
-    pub shutdown: watch::Receiver<bool>,
-    /// Who may do what.
-    pub guard: Arc<Guard>,
-}
 
 /// One route: method, path, who may call it and what a call costs (its policy, which the
 /// guard applies), and its handler. Every route declares its policy here, beside itself.
@@ -271,152 +227,6 @@ async fn problem_everywhere(response: Response) -> Response {
         }
     }
     problem
-}
-
-/// The body of a JSON request as text, for every route that takes one: checks the content
-/// type (a body without one is 415, as for any other type), the size and UTF-8.
-pub(crate) fn json_text(
-    headers: &HeaderMap,
-    body: Result<Bytes, BytesRejection>,
-    limit: usize,
-) -> Result<String, ApiError> {
-    let ct = headers
-        .get(header::CONTENT_TYPE)
-        .map(|ct| ct.to_str().unwrap_or("").to_ascii_lowercase());
-    let essence = ct
-        .as_deref()
-        .map(|ct| ct.split(';').next().unwrap_or("").trim());
-    match essence {
-        Some(e) if e == "application/json" || e.ends_with("+json") => {}
-        Some(e) => return Err(ApiError::UnsupportedMediaType(clip(e).into_owned())),
-        None => return Err(ApiError::UnsupportedMediaType("(none)".into())),
-    }
-    let bytes = body.map_err(|e| body_error(e, limit))?;
-    String::from_utf8(bytes.to_vec())
-        .map_err(|_| ApiError::bad_request("the body is not UTF-8", None))
-}
-
-/// Why a request body could not be read: it came too late (408), is over `limit` (413), or
-/// broke off (400).
-pub(crate) fn body_error(e: BytesRejection, limit: usize) -> ApiError {
-    if let Some(late) = BodyTimedOut::within(&e) {
-        ApiError::BodyTimeout {
-            seconds: late.seconds,
-        }
-    } else if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
-        ApiError::TooLarge { limit }
-    } else {
-        ApiError::bad_request(format!("could not read the body: {e}"), None)
-    }
-}
-
-/// Jobs or sweeps a list page holds unless `?limit=` says otherwise, and at most.
-const DEFAULT_PAGE: u32 = 50;
-const MAX_PAGE: u32 = 500;
-
-/// Longest `?search=` text, characters.
-pub(crate) const MAX_SEARCH_CHARS: usize = 100;
-
-/// `?limit=` of a list: an integer in [1, 500], 50 when absent.
-pub(crate) fn page_limit(raw: Option<&str>) -> Result<u32, ApiError> {
-    match raw {
-        None => Ok(DEFAULT_PAGE),
-        Some(l) => l
-            .parse::<u32>()
-            .ok()
-            .filter(|l| (1..=MAX_PAGE).contains(l))
-            .ok_or_else(|| {
-                ApiError::bad_request(
-                    format!("limit must be an integer in [1, {MAX_PAGE}]"),
-                    Some("limit"),
-                )
-            }),
-    }
-}
-
-/// `?search=` of a list: text a label must contain, 1 to [`MAX_SEARCH_CHARS`] characters
-/// (empty: no filter).
-pub(crate) fn search_text(raw: Option<String>) -> Result<Option<String>, ApiError> {
-    match raw {
-        Some(t) if t.chars().count() > MAX_SEARCH_CHARS => Err(ApiError::bad_request(
-            format!("search must be at most {MAX_SEARCH_CHARS} characters"),
-            Some("search"),
-        )),
-        Some(t) if !t.is_empty() => Ok(Some(t)),
-        _ => Ok(None),
-    }
-}
-
-/// Whether the client asked for CSV, by `Accept` or by `?format=csv`.
-pub(crate) fn wants_csv(headers: &HeaderMap, format: Option<&str>) -> Result<bool, ApiError> {
-    match format {
-        Some("csv") => return Ok(true),
-        Some("json") => return Ok(false),
-        Some(other) => {
-            return Err(ApiError::bad_request(
-                format!("format must be csv or json, not {:?}", clip(other)),
-                Some("format"),
-            ))
-        }
-        None => {}
-    }
-    let accept = headers
-        .get(header::ACCEPT)
-        .and_then(|v| v.to_str().ok())
-        .unwrap_or("");
-    Ok(accept
-        .split(',')
-        .any(|m| m.split(';').next().unwrap_or("").trim() == "text/csv"))
-}
-
-/// `?format=csv|json` of the routes that answer either.
-#[derive(Debug, serde::Deserialize)]
-pub struct FormatParams {
-    pub format: Option<String>,
-}
-
-/// A file-like answer: its content type, an optional `Content-Disposition` and an optional
-/// `Cache-Control`.
-pub(crate) fn file_response(
-    content_type: &'static str,
-    disposition: Option<String>,
-    cache: Option<&'static str>,
-    body: impl IntoResponse,
-) -> Response {
-    let mut response = body.into_response();
-    let headers = response.headers_mut();
-    headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(content_type));
-    // Our file names are built from UUIDs: always a valid header value.
-    if let Some(value) = disposition.and_then(|d| HeaderValue::from_str(&d).ok()) {
-        headers.insert(header::CONTENT_DISPOSITION, value);
-    }
-    if let Some(cache) = cache {
-        headers.insert(header::CACHE_CONTROL, HeaderValue::from_static(cache));
-    }
-    response
-}
-
-/// A CSV response.
-pub(crate) fn csv_response(text: String, filename: &str) -> Response {
-    file_response(
-        "text/csv; charset=utf-8",
-        Some(format!("inline; filename=\"{filename}\"")),
-        None,
-        text,
-    )
-}
-
-/// A path id: a UUID in the hyphenated form this server gives out (8-4-4-4-12 hex digits,
-/// either case), or the thing is not found. The braced, `urn:uuid:` and plain-hex spellings
-/// `Uuid::parse_str` also reads are 404 too: one resource, one URL.
-pub(crate) fn parse_id(raw: &str, what: &str) -> Result<uuid::Uuid, ApiError> {
-    let not_found = || ApiError::NotFound {
-        what: format!("{what} {}", clip(raw)),
-    };
-    if raw.len() != 36 {
-        return Err(not_found());
-    }
-    uuid::Uuid::parse_str(raw).map_err(|_| not_found())
 }
 
 #[cfg(test)]

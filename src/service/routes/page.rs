@@ -1,7 +1,7 @@
 //! The web page: `/` and its assets, compiled into the binary (`web/`), so that the page works
 //! with no network: nothing is fetched from anywhere but this server.
 
-use super::file_response;
+use super::answers::file_response;
 use crate::service::error::ApiError;
 use crate::service::form;
 use axum::extract::Path;

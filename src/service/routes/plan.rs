@@ -4,7 +4,8 @@
 //! of
 //! [`RATE_JOBS_READ`](crate::service::store::RATE_JOBS_READ) rows and one case check per option.
 
-use super::{json_text, AppState};
+use super::inputs::json_text;
+use super::state::AppState;
 use crate::service::error::ApiError;
 use crate::solver::analysis::plan::{plan as solver_plan, Goal, Plan};
 use crate::solver::analysis::rates::Rates;

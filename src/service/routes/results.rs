@@ -2,7 +2,9 @@
 //! the deformed tube as PNG and the final particle state as a VTU file. 404 for an unknown job,
 //! 409 for one that has not succeeded.
 
-use super::{file_response, parse_id, wants_csv, AppState, FormatParams};
+use super::answers::file_response;
+use super::inputs::{parse_id, wants_csv, FormatParams};
+use super::state::AppState;
 use crate::export::{self, FinalState};
 use crate::plot;
 use crate::service::connection::Connection;

@@ -6,8 +6,9 @@
 //! holds one frame's state (80 bytes a particle with the start positions) and one stored part
 //! (3.5 MB), whatever the series' length.
 
+use super::answers::file_response;
 use super::results::{heavy_slot, streamed, succeeded, CACHE};
-use super::{file_response, AppState};
+use super::state::AppState;
 use crate::export::series::{self, FrameState, FrameTime};
 use crate::service::connection::Connection;
 use crate::service::downloads::metered;

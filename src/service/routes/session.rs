@@ -2,7 +2,8 @@
 //! event stream, a picture or a download link, so the page trades its token once for an
 //! `HttpOnly; SameSite=Strict` cookie that the guard reads like the header.
 
-use super::{json_text, AppState};
+use super::inputs::json_text;
+use super::state::AppState;
 use crate::service::error::ApiError;
 use crate::service::guard::{Caller, Role, COOKIE};
 use crate::solver::model::input::user_message;

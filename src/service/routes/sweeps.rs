@@ -2,10 +2,9 @@
 //! sweep's table of results as JSON or CSV; the list of sweeps, newest first; and deleting a
 //! finished sweep with its jobs.
 
-use super::{
-    csv_response, json_text, page_limit, parse_id, search_text, wants_csv, AppState, FormatParams,
-    HttpLimits,
-};
+use super::answers::csv_response;
+use super::inputs::{json_text, page_limit, parse_id, search_text, wants_csv, FormatParams};
+use super::state::{AppState, HttpLimits};
 use crate::service::error::ApiError;
 use crate::service::guard::{Caller, Role};
 use crate::service::store::{Deleted, NewJob, NewSweep, SweepFilter, SweepSubmitted};

@@ -3,8 +3,8 @@
 //! A claim that stores a checkpoint has moved the job on: it does not count against
 //! `--max-attempts` (see `worker::Store::requeue` and `reap_stale`).
 
-use super::worker::holds;
-use super::{now_ms, Result, Store};
+use super::database::{now_ms, Result, Store};
+use super::lease::holds;
 use uuid::Uuid;
 
 /// A job's stored checkpoint.
@@ -130,7 +130,7 @@ impl Store {
 }
 
 /// Counts claim `attempt` of job `id` as one that moved the job on (once per claim).
-async fn advanced(tx: &mut super::WriteTx, id: Uuid, attempt: i64) -> Result<()> {
+async fn advanced(tx: &mut super::database::WriteTx, id: Uuid, attempt: i64) -> Result<()> {
     sqlx::query(
         "UPDATE jobs SET advanced = advanced + \
          (CASE WHEN COALESCE(checkpoint_attempt, 0) = $1 THEN 0 ELSE 1 END), \
@@ -145,7 +145,7 @@ async fn advanced(tx: &mut super::WriteTx, id: Uuid, attempt: i64) -> Result<()>
 
 /// Deletes job `job`'s checkpoint and its place in the job's row: the job has ended (or its
 /// checkpoint cannot be used).
-pub(super) async fn forget(tx: &mut super::WriteTx, job: &str) -> Result<()> {
+pub(super) async fn forget(tx: &mut super::database::WriteTx, job: &str) -> Result<()> {
     sqlx::query("DELETE FROM checkpoints WHERE job_id = $1")
         .bind(job)
         .execute(&mut **tx)

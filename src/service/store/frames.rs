@@ -3,8 +3,8 @@
 //! [`PART_PARTICLES`] particles so that a reader holds one part of the stored form at a time,
 //! and gone with the job or when its run fails or is cancelled.
 
-use super::worker::holds;
-use super::{Result, Store};
+use super::database::{Result, Store};
+use super::lease::holds;
 use crate::export::series::{FrameTime, FRAME_BYTES_PER_PARTICLE};
 use sqlx::Row;
 use uuid::Uuid;
@@ -107,7 +107,7 @@ impl Store {
 }
 
 /// Deletes job `job`'s frames: its run failed or was cancelled.
-pub(super) async fn forget(tx: &mut super::WriteTx, job: &str) -> Result<()> {
+pub(super) async fn forget(tx: &mut super::database::WriteTx, job: &str) -> Result<()> {
     sqlx::query("DELETE FROM frames WHERE job_id = $1")
         .bind(job)
         .execute(&mut **tx)

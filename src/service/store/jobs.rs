@@ -1,7 +1,9 @@
 //! Jobs as clients see them: submit (with idempotency keys and the queue limit), read, list,
 //! cancel, and read a history back.
 
-use super::{job_from_row, now_ms, JobRecord, Result, Status, Store, JOB_COLUMNS, JOB_FROM};
+use super::database::{
+    job_from_row, now_ms, JobRecord, Result, Status, Store, JOB_COLUMNS, JOB_FROM,
+};
 use crate::solver::HistoryRow;
 use uuid::Uuid;
 
@@ -80,7 +82,7 @@ impl Store {
                 if case_json != job.case_json {
                     return Ok(Submitted::KeyReused);
                 }
-                let id = super::parse_uuid(&id)?;
+                let id = super::database::parse_uuid(&id)?;
                 let record = self.job(id).await?;
                 return Ok(record
                     .map(Submitted::Replayed)
@@ -96,7 +98,7 @@ impl Store {
         let record = self.job(job.id).await?;
         record
             .map(Submitted::Created)
-            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))
+            .ok_or_else(|| super::database::StoreError::Corrupt("lost a job".into()))
     }
 
     pub async fn job(&self, id: Uuid) -> Result<Option<JobRecord>> {
@@ -190,7 +192,7 @@ impl Store {
         let record = self
             .job(id)
             .await?
-            .ok_or_else(|| super::StoreError::Corrupt("lost a job".into()))?;
+            .ok_or_else(|| super::database::StoreError::Corrupt("lost a job".into()))?;
         Ok(if outcome == Status::Cancelled {
             CancelOutcome::Cancelled(record)
         } else {
@@ -263,7 +265,7 @@ pub(super) fn like_pattern(text: &str) -> String {
 }
 
 /// Jobs waiting to run.
-pub(super) async fn queue_depth(tx: &mut super::WriteTx) -> Result<i64> {
+pub(super) async fn queue_depth(tx: &mut super::database::WriteTx) -> Result<i64> {
     let (n,): (i64,) = sqlx::query_as("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
         .fetch_one(&mut **tx)
         .await?;
@@ -273,7 +275,7 @@ pub(super) async fn queue_depth(tx: &mut super::WriteTx) -> Result<i64> {
 /// Inserts a queued job submitted by `owner`; `sweep` is (sweep id, index, swept values as
 /// JSON).
 pub(super) async fn insert_job(
-    tx: &mut super::WriteTx,
+    tx: &mut super::database::WriteTx,
     job: &NewJob,
     owner: Option<&str>,
     sweep: Option<(Uuid, i64, &str)>,

@@ -3,7 +3,7 @@
 //! planner's and the estimate's wall-time guesses (`solver::analysis::rates`, which decides
 //! which runs are large enough to count).
 
-use super::{Result, Store};
+use super::database::{Result, Store};
 use crate::solver::analysis::rates::{LawKind, RateSample};
 use crate::solver::model::case::{Material, Model, ShapeKind};
 use serde_json::Value;

@@ -3,7 +3,7 @@
 //! summary, history, final state, frames and checkpoint go with its row (`ON DELETE CASCADE`); a
 //! sweep's jobs go with it, in the same transaction.
 
-use super::{now_ms, Result, Status, Store};
+use super::database::{now_ms, Result, Status, Store};
 use uuid::Uuid;
 
 /// What a delete did.
@@ -49,13 +49,14 @@ impl Store {
         let Some((status, sweep)) = row else {
             return Ok(Deleted::NotFound);
         };
-        let status = Status::parse(&status)
-            .ok_or_else(|| super::StoreError::Corrupt(format!("job {id} has status {status}")))?;
+        let status = Status::parse(&status).ok_or_else(|| {
+            super::database::StoreError::Corrupt(format!("job {id} has status {status}"))
+        })?;
         if !status.is_terminal() {
             return Ok(Deleted::Unfinished(status, 1));
         }
         if let Some(sweep) = sweep {
-            return Ok(Deleted::InSweep(super::parse_uuid(&sweep)?));
+            return Ok(Deleted::InSweep(super::database::parse_uuid(&sweep)?));
         }
         delete_jobs(&mut tx, "id = $1", &id.to_string()).await?;
         tx.commit().await?;
@@ -137,7 +138,9 @@ impl Store {
             for (id,) in &old {
                 // Checked again under the lock: a sweep's job cannot start again, but the
                 // sweep may have been deleted by a client or another node meanwhile.
-                if let Deleted::Done { jobs } = self.delete_sweep(super::parse_uuid(id)?).await? {
+                if let Deleted::Done { jobs } =
+                    self.delete_sweep(super::database::parse_uuid(id)?).await?
+                {
                     pruned.sweeps += 1;
                     pruned.jobs += jobs as u64;
                 }
@@ -152,7 +155,7 @@ impl Store {
 
 /// Deletes the jobs `condition` (with one parameter, `key`) selects; their summaries,
 /// histories, final states and checkpoints go with them.
-async fn delete_jobs(tx: &mut super::WriteTx, condition: &str, key: &str) -> Result<u64> {
+async fn delete_jobs(tx: &mut super::database::WriteTx, condition: &str, key: &str) -> Result<u64> {
     let done = sqlx::query(&format!("DELETE FROM jobs WHERE {condition}"))
         .bind(key)
         .execute(&mut **tx)

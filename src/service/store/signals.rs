@@ -9,7 +9,7 @@
 //! catches up from the store (the event stream's poll, the worker's poll, the heartbeat's
 //! cancel flag). SQLite has one node and needs none of this.
 
-use super::{Result, Store};
+use super::database::{Result, Store};
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 use tokio::sync::mpsc;

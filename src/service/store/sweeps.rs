@@ -1,11 +1,11 @@
 //! Sweeps: a base case and lists of values, stored with all their jobs in one transaction;
 //! read one with its jobs, or list them newest first with their jobs counted by status.
 
-use super::jobs::{contains, insert_job, like_pattern, queue_depth, NewJob};
-use super::{
+use super::database::{
     job_from_row, now_ms, parse_uuid, JobRecord, Result, Status, Store, StoreError, JOB_COLUMNS,
     JOB_FROM,
 };
+use super::jobs::{contains, insert_job, like_pattern, queue_depth, NewJob};
 use uuid::Uuid;
 
 /// A sweep to insert, with one job per combination.

@@ -4,7 +4,8 @@
 //! Every write after the claim names the claim's lease: a worker that lost its job to the
 //! reaper can no longer write to it, so a job is never stored twice.
 
-use super::{now_ms, Result, Status, Store};
+use super::database::{now_ms, Result, Status, Store};
+use super::lease::holds;
 use crate::solver::{HistoryRow, Summary};
 use uuid::Uuid;
 
@@ -76,7 +77,7 @@ impl Store {
         tx.commit().await?;
         row.map(|(id, case_json, attempt)| {
             Ok(Claimed {
-                id: super::parse_uuid(&id)?,
+                id: super::database::parse_uuid(&id)?,
                 case_json,
                 attempt,
                 lease,
@@ -189,7 +190,7 @@ impl Store {
             particles,
         } = result;
         let summary_json = serde_json::to_string(summary)
-            .map_err(|e| super::StoreError::Corrupt(format!("summary: {e}")))?;
+            .map_err(|e| super::database::StoreError::Corrupt(format!("summary: {e}")))?;
         // The queryable columns come from the typed summary: a renamed field fails to compile
         // here instead of storing zeros.
         let mode = summary.mode.kind();
@@ -352,7 +353,9 @@ impl Store {
         };
         let mut tx = self.write().await?;
         let ids = |rows: Vec<(String,)>| -> Result<Vec<Uuid>> {
-            rows.iter().map(|(id,)| super::parse_uuid(id)).collect()
+            rows.iter()
+                .map(|(id,)| super::database::parse_uuid(id))
+                .collect()
         };
         let sql = format!(
             "UPDATE jobs SET status = 'cancelled', finished_at = $1, lease = NULL, \
@@ -406,31 +409,10 @@ impl Store {
     }
 }
 
-/// Whether `lease` still holds the running job `id`: `Some(cancel_requested)` if it does.
-/// The row stays locked to the end of the transaction on PostgreSQL, so no cancel or reaper
-/// can change it between this check and the write that follows.
-pub(super) async fn holds(
-    backend: &super::Backend,
-    tx: &mut super::WriteTx,
-    id: Uuid,
-    lease: Uuid,
-) -> Result<Option<bool>> {
-    let sql = format!(
-        "SELECT cancel_requested FROM jobs WHERE id = $1 AND lease = $2 AND status = 'running'{}",
-        backend.for_update()
-    );
-    let row: Option<(i64,)> = sqlx::query_as(&sql)
-        .bind(id.to_string())
-        .bind(lease.to_string())
-        .fetch_optional(&mut **tx)
-        .await?;
-    Ok(row.map(|(c,)| c != 0))
-}
-
 /// Ends a held run as `status` (failed or cancelled) with an optional reason; its checkpoint
 /// goes.
 async fn end_run(
-    tx: &mut super::WriteTx,
+    tx: &mut super::database::WriteTx,
     id: Uuid,
     status: Status,
     error: Option<&str>,
@@ -457,7 +439,7 @@ async fn end_run(
 /// What of a succeeded run is not stored: `None` when job `job` holds `rows` history rows
 /// numbered 0.., and all `frames` frames (0..frames) in full, each the parts `particles` take.
 async fn missing(
-    tx: &mut super::WriteTx,
+    tx: &mut super::database::WriteTx,
     job: &str,
     rows: usize,
     frames: u32,
@@ -474,7 +456,7 @@ async fn missing(
     if frames == 0 {
         return Ok(None);
     }
-    let parts = particles.div_ceil(super::PART_PARTICLES).max(1) as i64;
+    let parts = particles.div_ceil(super::frames::PART_PARTICLES).max(1) as i64;
     let stored: Vec<(i64, i64)> =
         sqlx::query_as("SELECT k, COUNT(*) FROM frames WHERE job_id = $1 GROUP BY k ORDER BY k")
             .bind(job)

@@ -1,8 +1,8 @@
 //! The sweep as the API shows it: its parameters, one table row per job with the key numbers
 //! of its typed summary (N, mJ, s), and for a resolution sweep the convergence analysis.
 
+use super::formats::{json, key_without, rfc3339};
 use super::time_step::{time_steps, StepGroupView};
-use super::{json, rfc3339};
 use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
 use crate::solver::Summary;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
@@ -417,17 +417,6 @@ impl Convergence {
 /// The other swept values of a job, as one string: the runs that differ only in resolution.
 fn group_key(fields: &[String], values: &Value) -> String {
     key_without(fields, values, RESOLUTION_FIELD)
-}
-
-/// The swept values other than `left_out`, sorted, as one string.
-pub(super) fn key_without(fields: &[String], values: &Value, left_out: &str) -> String {
-    let mut parts: Vec<String> = fields
-        .iter()
-        .filter(|f| *f != left_out)
-        .map(|f| format!("{f}={}", values.get(f).unwrap_or(&Value::Null)))
-        .collect();
-    parts.sort();
-    parts.join(", ")
 }
 
 impl SweepView {

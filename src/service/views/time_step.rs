@@ -3,8 +3,7 @@
 //! 2 % of the best estimate of the mean load (least wall time), and the step from which on the books close within
 //! the verdict's 2 %. Loads in N, time in s.
 
-use super::json;
-use super::sweep::key_without;
+use super::formats::{json, key_without};
 use crate::service::store::{JobRecord, Status};
 use crate::solver::analysis::verdict::BALANCE_CAUTION;
 use crate::study::step::{StepAnalysis, StepPoint, STEP_FIELD};

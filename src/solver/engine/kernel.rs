@@ -8,8 +8,6 @@
 
 use super::grid;
 use super::scene::Scene;
-#[cfg(doc)]
-use super::{section::Section, solid::Simulation};
 use crate::solver::model::contact::ContactSums;
 use crate::solver::Real;
 
@@ -165,10 +163,11 @@ pub trait Phases {
     fn update_stress(&mut self, dt: Real) -> Result<Real, SolveError>;
 }
 
-/// A model's time stepping: the 3D [`Simulation`] or a reduced model's [`Section`]. Each has
-/// the [`Phases`] of a step, which every model runs in the same order ([`Engine::advance`]);
-/// what comes before and after them (the step's size, the plates, the clock, the contact's
-/// books) is [`Engine::step`], the same for all.
+/// A model's time stepping: the 3D [`Simulation`](super::solid::Simulation) or a reduced
+/// model's [`Section`](super::section::Section). Each has the [`Phases`] of a step, which
+/// every model runs in the same order ([`Engine::advance`]); what comes before and after them
+/// (the step's size, the plates, the clock, the contact's books) is [`Engine::step`], the same
+/// for all.
 pub trait Engine: Phases {
     fn state(&self) -> &State;
     fn state_mut(&mut self) -> &mut State;

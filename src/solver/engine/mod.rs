@@ -26,6 +26,7 @@ pub mod scene;
 pub mod section;
 pub mod shape;
 pub mod solid;
+mod status;
 pub(crate) mod stress;
 
 pub mod kernel;

@@ -10,7 +10,8 @@ pub use super::policy::{
 };
 pub use super::spec::*;
 
-use super::checks::{self, Checker};
+use super::checker::Checker;
+use super::checks;
 use super::spec::wave_speed_m_s;
 
 /// A case that has been checked: every number finite and in range, the particle count within

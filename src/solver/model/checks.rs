@@ -2,44 +2,14 @@
 //! every field it refuses and why; [`super::case::Case::parse`] calls them in order and
 //! collects every failure.
 
+use super::checker::Checker;
 use super::geometry::CrossSection;
-use super::limits::FieldError;
 use super::material::checks as material_checks;
 use super::spec::{
     wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
     Output, RateKind, Section, Trigger, Tube, DEFAULT_MEAN_DIAMETER_MM, DEFAULT_RAMP_MM,
     MAX_FRAMES, MAX_SERIES_PARTICLES,
 };
-
-/// The failures found so far.
-#[derive(Default)]
-pub(super) struct Checker {
-    pub(super) errors: Vec<FieldError>,
-}
-
-impl Checker {
-    pub(super) fn fail(&mut self, field: &str, reason: &str) {
-        self.errors.push(FieldError {
-            field: field.into(),
-            reason: reason.into(),
-        });
-    }
-    pub(super) fn positive(&mut self, field: &str, v: f64) {
-        if !(v.is_finite() && v > 0.0) {
-            self.fail(field, "must be a finite number > 0");
-        }
-    }
-    pub(super) fn range(&mut self, field: &str, v: f64, lo: f64, hi: f64, reason: &str) {
-        if !(v.is_finite() && v >= lo && v <= hi) {
-            self.fail(field, reason);
-        }
-    }
-    pub(super) fn fail_all(&mut self, fields: &[&str], reason: &str) {
-        for f in fields {
-            self.fail(f, reason);
-        }
-    }
-}
 
 /// The tube: every length positive, the fields of its section and no other, the wall thinner
 /// than half the diameter (or the smaller side), a rectangle's corners within it.

@@ -2,7 +2,7 @@
 //! the caller's [`Limits`], each over-limit cost naming every field that drives it, the one
 //! that drives it most first, with its value and the cost it would have at its default.
 
-use super::checks::Checker;
+use super::checker::Checker;
 use super::geometry::Geometry;
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
 use super::spec::{run_wave_speed_m_s, CaseSpec, Section};

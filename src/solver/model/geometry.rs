@@ -16,8 +16,7 @@ mod rectangle;
 
 pub use rectangle::Rectangle;
 
-use super::case::{CaseSpec, LoadingMode, Model};
-use super::spec::{Section, Tube, DEFAULT_MEAN_DIAMETER_MM};
+use super::spec::{CaseSpec, LoadingMode, Model, Section, Tube, DEFAULT_MEAN_DIAMETER_MM};
 use crate::solver::Real;
 use nalgebra::Vector3;
 use std::f64::consts::PI;

@@ -6,6 +6,8 @@
 //! The ground floor: imports nothing of the engine or the analysis.
 
 pub mod case;
+pub mod case_defaults;
+mod checker;
 mod checks;
 pub mod contact;
 mod cost;

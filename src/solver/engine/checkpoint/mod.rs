@@ -176,9 +176,9 @@ impl Checkpoint {
 impl Resume {
     /// Where the run stood when the checkpoint was written, as the progress report of its last
     /// finished history row (`points` rows in the whole run); `None` before the first row.
-    pub fn progress(&self, points: usize) -> Option<crate::solver::engine::observer::Progress> {
+    pub fn progress(&self, points: usize) -> Option<crate::solver::engine::status::Progress> {
         let row = self.tally.rows.last()?;
-        Some(crate::solver::engine::observer::Progress {
+        Some(crate::solver::engine::status::Progress {
             step: self.steps,
             time_ms: row.time_ms,
             displacement_mm: row.displacement_mm,

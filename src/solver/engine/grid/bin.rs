@@ -5,7 +5,7 @@
 //! [`Bins::link`] each block to its neighbours. Before the particles are reordered,
 //! [`Bins::order_by_reach`] groups each block's particles by the shape of their stencils.
 
-use super::{neighbor_index, neighbor_offset, BLOCK, NONE};
+use super::blocks::{neighbor_index, neighbor_offset, BLOCK, NONE};
 use crate::solver::engine::shape::Stencil;
 use crate::solver::Real;
 use nalgebra::Vector3;

@@ -17,7 +17,10 @@
 //! [`Transfer`] says which lanes a scatter fills, reduces and clears.
 
 pub mod bin;
+pub mod blocks;
 pub mod sweep;
+
+pub use blocks::{neighbor_index, neighbor_offset, BLOCK, NONE, OWNED};
 
 use crate::solver::engine::shape::Stencil;
 use crate::solver::Real;
@@ -25,12 +28,6 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::marker::PhantomData;
 use wide::f64x4;
-
-/// Cells (and owned nodes) per block edge.
-pub const BLOCK: i32 = 4;
-/// Owned nodes per block.
-pub const OWNED: usize = 64;
-pub const NONE: u32 = u32::MAX;
 
 /// Which particle→grid transfer a scatter is; one type drives what the scatter writes, what
 /// [`Grid::reduce`] sums and what it clears, so that the three cannot disagree.
@@ -181,12 +178,6 @@ pub struct Grid<S: Stencil> {
     /// Which padded node is which owned node, the same for every block.
     links: Links,
     shape: PhantomData<S>,
-}
-
-/// Index into the 27-neighbour array of a block offset in {−1, 0, 1}³.
-#[inline(always)]
-pub fn neighbor_index(d: [i32; 3]) -> usize {
-    ((d[0] + 1) * 9 + (d[1] + 1) * 3 + (d[2] + 1)) as usize
 }
 
 impl<S: Stencil> Grid<S> {
@@ -388,13 +379,6 @@ fn overlap3<S: Stencil>(e: [i32; 3]) -> Option<[(usize, usize, usize); 3]> {
         overlap(e[1], S::PAD_LO, S::PAD)?,
         overlap(e[2], S::PAD_LO, S::PAD)?,
     ])
-}
-
-/// The offset in {−1, 0, 1}³ of neighbour `k` (see [`neighbor_index`]).
-#[inline(always)]
-pub const fn neighbor_offset(k: usize) -> [i32; 3] {
-    let k = k as i32;
-    [k / 9 - 1, (k / 3) % 3 - 1, k % 3 - 1]
 }
 
 /// Along one axis: which padded nodes of a block (padded origin `lo` nodes from its first owned

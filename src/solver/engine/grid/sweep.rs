@@ -11,7 +11,7 @@
 //! no bit.
 
 use super::bin::Bins;
-use super::NONE;
+use super::blocks::NONE;
 
 /// Slabs of padded buffers alive at once: a reduce reads three neighbouring slabs.
 pub const RING: usize = 3;

@@ -17,6 +17,7 @@
 
 mod grid;
 mod passes;
+mod patch;
 
 use super::grid::Transfer;
 use super::kernel::{Clock, Engine, Phases, SolveError, State};
@@ -71,7 +72,7 @@ struct Scratch {
     /// mean dilation rate (1/ms) and pressure (MPa).
     averages: Option<Vec<[Real; 3]>>,
     /// The scatter's per-run sums.
-    patches: Vec<passes::Patch>,
+    patches: Vec<patch::Patch>,
     /// Per chunk of particles, the stress update's sums.
     chunk_sums: Vec<ChunkSums>,
 }

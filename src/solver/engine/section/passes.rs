@@ -4,7 +4,8 @@
 //! patch of its own, added onto the grid in a fixed order (so the bits do not depend on the
 //! thread count); the node passes, over a few thousand nodes, run on one thread.
 
-use super::grid::{PlaneGrid, PlaneStencil};
+use super::grid::PlaneStencil;
+use super::patch::Patch;
 use super::Section;
 use crate::solver::engine::grid::Transfer;
 use crate::solver::engine::kernel::SolveError;
@@ -20,42 +21,6 @@ const CHUNK: usize = 512;
 
 /// Particles per scatter run (see [`Section::scatter`]).
 const SCATTER_CHUNK: usize = 256;
-
-/// One scatter run's sums over the nodes its stencils reach: per node [mass, momentum x,
-/// momentum z, force x, force z, touch] (a remap fills the momentum only).
-#[derive(Debug, Default)]
-pub(super) struct Patch {
-    /// First node, as offsets from the grid's origin.
-    origin: [usize; 2],
-    dims: [usize; 2],
-    nodes: Vec<[Real; 6]>,
-}
-
-impl Patch {
-    /// Covers the stencils of particles at `x` on grid `g`, cleared.
-    fn fit<S: Stencil>(&mut self, g: &PlaneGrid<S>, x: &[Vector3<Real>], lp: Real) {
-        let (mut lo, mut hi) = (Vector3::repeat(Real::MAX), Vector3::repeat(Real::MIN));
-        for p in x {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let (first, last) = (g.stencil(&lo, lp).start, g.stencil(&hi, lp).start);
-        self.origin = first;
-        self.dims = [last[0] + S::N - first[0], last[1] + S::N - first[1]];
-        self.nodes.clear();
-        self.nodes.resize(self.dims[0] * self.dims[1], [0.0; 6]);
-    }
-
-    #[inline(always)]
-    fn index(&self, i: usize, k: usize) -> usize {
-        debug_assert!(i < self.dims[0] && k < self.dims[1]);
-        i * self.dims[1] + k
-    }
-
-    pub(super) fn bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<[Real; 6]>()
-    }
-}
 
 impl<S: Stencil> Section<S> {
     /// Particle → grid. `Full`: mass, momentum, internal force (with the hoop term) and plate

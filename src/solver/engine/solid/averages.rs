@@ -2,7 +2,7 @@
 //! pressure of the particles in it, which replace each particle's own in the stress update (as
 //! in a Q1–P0 element). Units: 1/ms, MPa, mm³.
 
-use super::workspace::Gradient;
+use super::gradient::Gradient;
 use crate::solver::engine::grid::bin::Bins;
 use crate::solver::engine::particles::Particles;
 use crate::solver::Real;

@@ -24,6 +24,7 @@
 //! is in [`Workspace`]. Imports the engine's kernel and shared pieces, never `section`.
 
 mod averages;
+mod gradient;
 mod nodes;
 mod stress;
 mod transfer;

@@ -3,8 +3,8 @@
 //! the shared loop (`engine/stress.rs`) does the rest.
 
 use super::averages::VolumetricAverages;
+use super::gradient::Gradient;
 use super::transfer::CHUNK;
-use super::workspace::Gradient;
 use super::Simulation;
 use crate::solver::engine::grid::bin::Bins;
 use crate::solver::engine::kernel::SolveError;

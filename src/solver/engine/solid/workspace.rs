@@ -2,16 +2,10 @@
 //! that the step loop allocates nothing. None of it is simulation state.
 
 use super::averages::VolumetricAverages;
+use super::gradient::Gradient;
 use crate::solver::engine::stress::ChunkSums;
 use crate::solver::model::contact::ContactSums;
 use nalgebra::Matrix3;
-
-/// A velocity gradient as the workspace stores it between two passes, 1/ms. f32 holds it to a
-/// relative 6·10⁻⁸: the strain increment L·dt of a step is ~10⁻⁵, so the stress it adds is
-/// rounded at ~10⁻¹² of the yield strain, far below what any result shows, and the array is
-/// half the bytes (36 instead of 72 per particle, written once and read twice a step). The
-/// stress update widens it back to f64; everything it accumulates stays in f64.
-pub type Gradient = Matrix3<f32>;
 
 #[derive(Debug, Default)]
 pub struct Workspace {

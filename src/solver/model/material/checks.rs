@@ -2,7 +2,7 @@
 //! a hardening law and a rate law with every constant they need, in range, and none they do
 //! not read; a curve that starts at the yield stress, increases in strain and does not soften.
 
-use super::super::checks::Checker;
+use super::super::checker::Checker;
 use super::flow::MAX_CURVE_POINTS;
 use super::section::{HardeningKind, Material, RateKind};
 

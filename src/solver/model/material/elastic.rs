@@ -1,7 +1,7 @@
 //! Linear elasticity (hypoelastic, with the Jaumann rate): the wall never yields, and no step
 //! books plastic strain or plastic work.
 
-use super::{lame, trial, Increment, Lanes, Law, Point};
+use super::law::{lame, trial, Increment, Lanes, Law, Point};
 use crate::solver::Real;
 
 /// An elastic material: Lamé's λ and the shear modulus G, MPa.

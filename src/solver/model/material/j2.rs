@@ -1,7 +1,7 @@
 //! Elastic–perfectly plastic J2 (von Mises) plasticity with radial return: the paper's model.
 //! The flow stress is the yield stress σy, scaled per particle by the trigger's factor.
 
-use super::{lame, trial, Increment, Lanes, Law, Point};
+use super::law::{lame, trial, Increment, Lanes, Law, Point};
 use crate::solver::Real;
 
 /// An elastic–perfectly plastic material: Lamé's λ, the shear modulus G and the yield stress

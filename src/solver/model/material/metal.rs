@@ -12,7 +12,7 @@
 //! curve do not decrease and R ≥ 1).
 
 use super::flow::{Hardening, Rate};
-use super::{lame, trial, Increment, Lanes, Law, Point};
+use super::law::{lame, trial, Increment, Lanes, Law, Point};
 use crate::solver::Real;
 
 /// Newton steps at most in one return (each halves the bracket at worst; the step ends when

@@ -10,7 +10,7 @@
 //! given without a yield stress sets the yield stress to its first stress.
 
 pub use super::flow::Extrapolation;
-pub use super::preset::Preset;
+pub use super::preset_names::Preset;
 
 use super::flow::{Hardening, Rate, Table};
 use schemars::JsonSchema;

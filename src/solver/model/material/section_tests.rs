@@ -251,7 +251,7 @@ fn a_constant_without_its_law_and_a_law_on_an_elastic_wall_are_refused() {
 
 #[test]
 fn non_finite_constants_are_refused() {
-    use super::super::checks::Checker;
+    use super::super::checker::Checker;
     let mut m = super::preset::Preset::MildSteel.material();
     m.cowper_symonds_q = Some(f64::INFINITY);
     m.hardening = HardeningKind::Table;

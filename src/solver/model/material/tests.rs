@@ -3,6 +3,7 @@
 
 use super::*;
 use nalgebra::Matrix3;
+use wide::f64x4;
 
 const E: Real = 3378.4;
 const NU: Real = 0.42;
