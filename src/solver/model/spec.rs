@@ -163,7 +163,7 @@ pub struct Loading {
     /// steps, m/s: a rate law then reads every strain rate scaled by test / plate speed, the
     /// rate the test's wall saw. Omitted: the plate's speed.
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schemars(title = "Test speed", description = "The speed of the test this case stands for, when the plate runs faster than it to save steps (a quasi-static test run at 10 m/s): a strain-rate law then reads each strain rate times test / plate speed, the rate the test saw, and the verdict holds kinetic energy to 5 % of the internal. At most the plate speed. Empty: the plate's speed.", extend("x-unit" = "m/s", "exclusiveMinimum" = 0))]
+    #[schemars(title = "Test speed", description = "The speed of the test this case stands for, when the plate runs faster than it to save steps (a quasi-static test run at 10 m/s): a strain-rate law then reads each strain rate times test / plate speed, the rate the test saw, and the verdict holds kinetic energy to 1 % of the internal. At most the plate speed. Empty: the plate's speed.", extend("x-unit" = "m/s", "exclusiveMinimum" = 0))]
     pub test_speed_m_s: Option<f64>,
 }
 
@@ -338,7 +338,7 @@ pub struct Discretization {
     #[serde(skip_serializing_if = "is_one")]
     #[schemars(
         title = "Mass scaling f",
-        description = "Multiplies the tube's density by f in the equations of motion only, as LS-DYNA's DT2MS does for a uniform mesh: the time step grows as √f, so the run takes 1/√f of the steps, and inertia grows f times. For a rate-independent material it is the same crush as the plate √f times faster; a rate law still sees the plate's real speed. The summary reports the added mass, and the verdict holds kinetic energy to 5 % of the internal. 1: none.",
+        description = "Multiplies the tube's density by f in the equations of motion only, as LS-DYNA's DT2MS does for a uniform mesh: the time step grows as √f, so the run takes 1/√f of the steps, and inertia grows f times. For a rate-independent material it is the same crush as the plate √f times faster; a rate law still sees the plate's real speed. The summary reports the added mass, and the verdict holds kinetic energy to 1 % of the internal. 1: none.",
         range(min = 1, max = 100)
     )]
     pub mass_scaling: f64,

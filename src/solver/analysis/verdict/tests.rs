@@ -136,14 +136,14 @@ fn kinetic_energy_above_5_percent_of_the_internal_is_not_quasi_static() {
 }
 
 #[test]
-fn a_sped_up_run_is_not_trusted_past_5_percent_kinetic_energy_in_place_of_the_quasi_static_rule() {
+fn a_sped_up_run_is_not_trusted_past_1_percent_kinetic_energy_in_place_of_the_quasi_static_rule() {
     let scaled = case(r#"{"discretization": {"mass_scaling": 16}}"#);
     let found = |k: f64| rules(&of_run(&scaled, &summary(0.0, k), &ModeDetail::default()).reasons);
-    assert_eq!(found(0.04), []);
-    assert_eq!(found(0.06), [(Rule::SpedUp, Level::NotTrusted)]);
+    assert_eq!(found(0.009), []);
+    assert_eq!(found(0.015), [(Rule::SpedUp, Level::NotTrusted)]);
     assert_eq!(found(0.3), [(Rule::SpedUp, Level::NotTrusted)]);
     let faster = case(r#"{"loading": {"plate_speed_m_s": 10, "test_speed_m_s": 0.001}}"#);
-    let found = rules(&of_run(&faster, &summary(0.0, 0.06), &ModeDetail::default()).reasons);
+    let found = rules(&of_run(&faster, &summary(0.0, 0.015), &ModeDetail::default()).reasons);
     assert_eq!(found, [(Rule::SpedUp, Level::NotTrusted)]);
     let unscaled = case("{}");
     let found = rules(&of_run(&unscaled, &summary(0.0, 0.06), &ModeDetail::default()).reasons);
