@@ -21,7 +21,7 @@
 //! with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
 //! What a node holds in each phase is in [`Node`]'s table; everything recomputed within a step
-//! is in [`Workspace`]. Imports the engine's kernel and shared pieces, never `section`.
+//! is in [`Workspace`]. Imports the engine's kernel and shared pieces, never `reduced`.
 
 mod averages;
 mod gradient;
