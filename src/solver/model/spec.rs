@@ -6,11 +6,11 @@
 //! d = 22.2 mm, l = 76.2 mm, E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the
 //! density is our assumption, the source gives none; rigid PVC lies between 1300 and
 //! 1450 kg/m³). The material section's own types, its presets and how a preset fills it are
-//! in [`super::material::section`].
+//! in [`super::material::given`].
 
 use super::input::{clip, object, object_from_str, user_message};
 use super::limits::CaseError;
-pub use super::material::section::{
+pub use super::material::given::{
     CurveExtrapolation, HardeningKind, Material, MaterialModel, Preset, RateKind,
 };
 use schemars::JsonSchema;
