@@ -164,7 +164,7 @@ pub trait Phases {
 }
 
 /// A model's time stepping: the 3D [`Simulation`](super::solid::Simulation) or a reduced
-/// model's [`Section`](super::reduced::Section). Each has the [`Phases`] of a step, which
+/// model's [`Reduced`](super::reduced::Reduced). Each has the [`Phases`] of a step, which
 /// every model runs in the same order ([`Engine::advance`]); what comes before and after them
 /// (the step's size, the plates, the clock, the contact's books) is [`Engine::step`], the same
 /// for all.
