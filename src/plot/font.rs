@@ -1,5 +1,5 @@
 //! The font every plot's text is set in: DejaVu Sans, compiled into the binary and registered
-//! once as "sans-serif". Imports nothing of the plots; `mod.rs` and `shape.rs` import it.
+//! once as "sans-serif". Imports nothing of the plots; `mod.rs` and `deformed.rs` import it.
 
 use plotters::style::FontStyle;
 use std::sync::OnceLock;

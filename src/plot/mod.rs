@@ -1,10 +1,10 @@
 //! Line plots as SVG and PNG, and the deformed tube as PNG ([`tube_png`]), with plotters. Their
 //! text is set in DejaVu Sans, compiled into the binary.
 
+mod deformed;
 mod font;
-mod shape;
 
-pub use shape::tube_png;
+pub use deformed::tube_png;
 
 use font::font;
 

@@ -11,7 +11,7 @@
 //!   material and contact laws. Imports nothing of the other two.
 //! - [`engine`]: how it is computed — the shared kernel (the `Engine` trait, state, clock,
 //!   energy books, the per-particle stress loop) with the 3D model (`solid`) and the reduced
-//!   models (`section`) beneath it, the grid, shape functions and particles, the run loop.
+//!   models (`reduced`) beneath it, the grid, shape functions and particles, the run loop.
 //!   Imports the model.
 //! - [`analysis`]: what it means — summary, collapse mode, folds, closed-form references, the
 //!   cost estimate. Imports the model and the engine.

@@ -1,7 +1,7 @@
 //! Checkpoints of running jobs: stored under the claim's lease (a worker that lost its job
 //! cannot write one), read by whichever node claims the job next, and gone once the job ends.
 //! A claim that stores a checkpoint has moved the job on: it does not count against
-//! `--max-attempts` (see `worker::Store::requeue` and `reap_stale`).
+//! `--max-attempts` (see `claims::Store::requeue` and `reap_stale`).
 
 use super::database::{now_ms, Result, Store};
 use super::lease::holds;

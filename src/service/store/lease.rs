@@ -1,5 +1,5 @@
 //! Whether a worker's lease still holds the running job it writes for, checked inside the
-//! write's transaction. Imports the store's backend and database handle; the worker, the
+//! write's transaction. Imports the store's backend and database handle; the claims, the
 //! checkpoints and the frames import it.
 
 use super::backend::Backend;

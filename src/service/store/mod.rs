@@ -7,6 +7,7 @@
 
 mod backend;
 mod checkpoints;
+mod claims;
 mod database;
 mod file;
 mod frames;
@@ -16,9 +17,9 @@ mod rates;
 mod removal;
 pub mod signals;
 mod sweeps;
-mod worker;
 
 pub use checkpoints::StoredCheckpoint;
+pub use claims::{Claimed, Reaped, Succeeded};
 pub use database::{
     now_ms, CheckpointMark, JobRecord, Result, Status, Store, StoreError, HEALTH_TIMEOUT,
 };
@@ -28,7 +29,6 @@ pub use rates::RATE_JOBS_READ;
 pub use removal::{Deleted, Pruned};
 pub use signals::Signal;
 pub use sweeps::{NewSweep, SweepFilter, SweepListed, SweepRecord, SweepSubmitted};
-pub use worker::{Claimed, Reaped, Succeeded};
 
 /// A store on a fresh SQLite file, for tests; the folder holding it goes when the first is
 /// dropped.

@@ -14,7 +14,7 @@ use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
 use crate::solver::model::case::{slenderness, ugimp_may_tip_over};
 use crate::solver::model::case::{
-    Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, Section, ShapeKind,
+    Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, SectionShape, ShapeKind,
 };
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -146,7 +146,7 @@ fn reduced_model(spec: &CaseSpec) -> Option<Model> {
     if spec.discretization.model != Model::ThreeD || spec.trigger.weak_fraction > 0.0 {
         return None;
     }
-    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != Section::Round {
+    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != SectionShape::Round {
         return None;
     }
     Some(match spec.loading.mode {
@@ -158,7 +158,7 @@ fn reduced_model(spec: &CaseSpec) -> Option<Model> {
 /// What a run of `model` with `shape` can show of `spec`'s tube.
 fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
     let mut s = match (model, spec.loading.mode) {
-        (Model::ThreeD, LoadingMode::Axial) if spec.tube.section == Section::Rectangular => {
+        (Model::ThreeD, LoadingMode::Axial) if spec.tube.section == SectionShape::Rectangular => {
             "every mode: symmetric, asymmetric mixed, extensional, global bending, end effects"
         }
         (Model::ThreeD, LoadingMode::Axial) => {
@@ -182,7 +182,7 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
             spec.contact.friction
         ));
     }
-    if spec.tube.section == Section::Rectangular {
+    if spec.tube.section == SectionShape::Rectangular {
         s.push_str("; the error is not known (no convergence study of a rectangular tube yet)");
     } else {
         match shape {

@@ -5,7 +5,7 @@
 //! `crush bench-plan` its own runs.
 
 use crate::solver::model::case::{Model, ShapeKind};
-use crate::solver::model::material::section::{HardeningKind, Material, MaterialModel, RateKind};
+use crate::solver::model::material::given::{HardeningKind, Material, MaterialModel, RateKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -240,7 +240,7 @@ fn median(v: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::model::material::section::Preset;
+    use crate::solver::model::material::given::Preset;
 
     /// A run of 10 000 particles × 1 000 steps (large enough to calibrate) at `rate`.
     fn sample(model: Model, shape: ShapeKind, rate: f64, threads: u32) -> RateSample {

@@ -25,7 +25,7 @@ pub use primary::Primary;
 pub use rectangular::RectangularReferences;
 
 use crate::solver::model::case::{Case, CrossSection, LoadingMode};
-use crate::solver::model::material::section::FlowStresses;
+use crate::solver::model::material::given::FlowStresses;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;

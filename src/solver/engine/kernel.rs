@@ -4,7 +4,7 @@
 //! Units: mm, ms, g, N, MPa, mJ.
 //!
 //! Imports the scene and the grid's transfer kinds of the engine, and the model; never a model
-//! (`solid`, `section`) or the run loop.
+//! (`solid`, `reduced`) or the run loop.
 
 use super::grid;
 use super::scene::Scene;
@@ -164,7 +164,7 @@ pub trait Phases {
 }
 
 /// A model's time stepping: the 3D [`Simulation`](super::solid::Simulation) or a reduced
-/// model's [`Section`](super::section::Section). Each has the [`Phases`] of a step, which
+/// model's [`Reduced`](super::reduced::Reduced). Each has the [`Phases`] of a step, which
 /// every model runs in the same order ([`Engine::advance`]); what comes before and after them
 /// (the step's size, the plates, the clock, the contact's books) is [`Engine::step`], the same
 /// for all.

@@ -1,7 +1,7 @@
 //! The engine: how a case is computed. The shared kernel lives here — the [`Engine`] trait
 //! every model implements, the [`State`] it carries from step to step, the clock, the energy
 //! books and the per-particle stress loop (`stress.rs`) — with the two models beneath it as
-//! siblings: [`solid`], the whole tube in 3D, and [`section`], a tube's section on two axes
+//! siblings: [`solid`], the whole tube in 3D, and [`reduced`], a tube's section on two axes
 //! (axisymmetric or plane strain). Beside them: the grid, the shape functions, the particles,
 //! the scene a case becomes, the run loop with its observer, history rows and checkpoints.
 //! Units: mm, ms, g, N, MPa, mJ.
@@ -21,9 +21,9 @@ pub mod grid;
 pub mod history;
 pub mod observer;
 pub mod particles;
+pub mod reduced;
 mod run;
 pub mod scene;
-pub mod section;
 pub mod shape;
 pub mod solid;
 mod status;

@@ -8,8 +8,8 @@ use super::frames::Schedule;
 use super::history::HistoryRow;
 use super::kernel::{Engine, SolveError};
 use super::observer::{Observer, Progress};
+use super::reduced::{Reduced, Symmetry};
 use super::scene::{Scene, BOTTOM, TOP};
-use super::section::{Section, Symmetry};
 use super::shape::{Bspline, Gimp, Linear};
 use super::solid::Simulation;
 use crate::solver::model::case::Case;
@@ -287,9 +287,9 @@ pub fn simulate<D: Driver>(model: Model, shape: ShapeKind, scene: Scene, driver:
     match (Symmetry::of(model), shape) {
         (None, ShapeKind::Linear) => driver.drive(Simulation::<Linear>::new(scene)),
         (None, ShapeKind::Gimp) => driver.drive(Simulation::<Gimp>::new(scene)),
-        (Some(sym), ShapeKind::Linear) => driver.drive(Section::<Linear>::new(scene, sym)),
-        (Some(sym), ShapeKind::Gimp) => driver.drive(Section::<Gimp>::new(scene, sym)),
+        (Some(sym), ShapeKind::Linear) => driver.drive(Reduced::<Linear>::new(scene, sym)),
+        (Some(sym), ShapeKind::Gimp) => driver.drive(Reduced::<Gimp>::new(scene, sym)),
         (None, ShapeKind::Bspline) => driver.drive(Simulation::<Bspline>::new(scene)),
-        (Some(sym), ShapeKind::Bspline) => driver.drive(Section::<Bspline>::new(scene, sym)),
+        (Some(sym), ShapeKind::Bspline) => driver.drive(Reduced::<Bspline>::new(scene, sym)),
     }
 }

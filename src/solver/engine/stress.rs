@@ -25,7 +25,7 @@ pub struct ChunkSums {
     bad: Option<(usize, &'static str)>,
 }
 
-/// What the books of a stress update hold fixed over a step (3D and the sections alike).
+/// What the books of a stress update hold fixed over a step (3D and the reduced models alike).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Books {
     /// The step, ms.
@@ -128,8 +128,8 @@ pub(crate) trait Deformation: Sync {
 }
 
 /// The stress update of every particle `p` under the scene's law, for the 3D simulation and
-/// the sections alike ([`update_particles_as`] with the law as a type, [`MaterialLaw::with`]:
-/// one match a step, and the loop over the particles is monomorphic).
+/// the reduced models alike ([`update_particles_as`] with the law as a type,
+/// [`MaterialLaw::with`]: one match a step, and the loop over the particles is monomorphic).
 pub(crate) fn update_particles(
     p: &mut Particles,
     (law, books): (&MaterialLaw, &Books),

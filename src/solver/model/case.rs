@@ -1,11 +1,11 @@
 //! A checked case ([`Case`]): a spec ([`super::spec`]) whose every section passed its checks
 //! ([`super::checks`]) and whose cost is within the caller's limits ([`super::cost`]), with its
-//! defaults resolved (the crush, the ramp, the shape functions: [`super::policy`]) and its
+//! defaults resolved (the crush, the ramp, the shape functions: [`super::shape_policy`]) and its
 //! geometry ([`super::geometry`]). The rest of the solver trusts it.
 
 pub use super::geometry::{CrossSection, Geometry, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
-pub use super::policy::{
+pub use super::shape_policy::{
     is_thin, slenderness, ugimp_may_tip_over, ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T,
 };
 pub use super::spec::*;

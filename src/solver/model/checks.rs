@@ -7,7 +7,7 @@ use super::geometry::CrossSection;
 use super::material::checks as material_checks;
 use super::spec::{
     wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
-    Output, RateKind, Section, Trigger, Tube, DEFAULT_MEAN_DIAMETER_MM, DEFAULT_RAMP_MM,
+    Output, RateKind, SectionShape, Trigger, Tube, DEFAULT_MEAN_DIAMETER_MM, DEFAULT_RAMP_MM,
     MAX_FRAMES, MAX_SERIES_PARTICLES,
 };
 
@@ -17,8 +17,8 @@ pub(super) fn tube(c: &mut Checker, t: &Tube) {
     c.positive("tube.thickness_mm", t.thickness_mm);
     c.positive("tube.length_mm", t.length_mm);
     match t.section {
-        Section::Round => round(c, t),
-        Section::Rectangular => rectangular(c, t),
+        SectionShape::Round => round(c, t),
+        SectionShape::Rectangular => rectangular(c, t),
     }
 }
 
@@ -197,10 +197,10 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
     if crush.is_finite() && room.is_finite() && crush >= 0.95 * room {
         let what = match (l.mode, t.section) {
             (LoadingMode::Axial, _) => "95 % of tube.length_mm",
-            (LoadingMode::Lateral, Section::Round) => {
+            (LoadingMode::Lateral, SectionShape::Round) => {
                 "95 % of the bore (mean_diameter_mm - thickness_mm)"
             }
-            (LoadingMode::Lateral, Section::Rectangular) => {
+            (LoadingMode::Lateral, SectionShape::Rectangular) => {
                 "95 % of the bore between the plates (side_b_mm - thickness_mm)"
             }
         };
@@ -251,7 +251,7 @@ pub(super) fn discretization(c: &mut Checker, spec: &CaseSpec) {
             ),
         );
     }
-    if d.model == Model::Axisymmetric && spec.tube.section != Section::Round {
+    if d.model == Model::Axisymmetric && spec.tube.section != SectionShape::Round {
         let reason = "axisymmetric needs a round tube: a rectangular section has no axis of \
                       symmetry to revolve about (use model 3d)";
         c.fail("discretization.model", reason);

@@ -5,7 +5,7 @@
 use super::checker::Checker;
 use super::geometry::Geometry;
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
-use super::spec::{run_wave_speed_m_s, CaseSpec, Section};
+use super::spec::{run_wave_speed_m_s, CaseSpec, SectionShape};
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
 /// least one per history row.
@@ -44,13 +44,13 @@ pub(super) const RECTANGULAR_PARTICLE_FIELDS: &[&str] = &[
 ];
 
 /// The fields that set a section's particle count, and how the count grows with them.
-fn particle_fields(section: Section) -> (&'static [&'static str], &'static str) {
+fn particle_fields(section: SectionShape) -> (&'static [&'static str], &'static str) {
     match section {
-        Section::Round => (
+        SectionShape::Round => (
             PARTICLE_FIELDS,
             "mean_diameter_mm · length_mm · n² / thickness_mm²",
         ),
-        Section::Rectangular => (
+        SectionShape::Rectangular => (
             RECTANGULAR_PARTICLE_FIELDS,
             "(side_a_mm + side_b_mm) · length_mm · n² / thickness_mm²",
         ),

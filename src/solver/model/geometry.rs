@@ -16,7 +16,7 @@ mod rectangle;
 
 pub use rectangle::Rectangle;
 
-use super::spec::{CaseSpec, LoadingMode, Model, Section, Tube, DEFAULT_MEAN_DIAMETER_MM};
+use super::spec::{CaseSpec, LoadingMode, Model, SectionShape, Tube, DEFAULT_MEAN_DIAMETER_MM};
 use crate::solver::Real;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -40,11 +40,11 @@ impl CrossSection {
     pub fn of(tube: &Tube) -> CrossSection {
         let t = tube.thickness_mm;
         match tube.section {
-            Section::Round => CrossSection::Round {
+            SectionShape::Round => CrossSection::Round {
                 thickness_mm: t,
                 mean_diameter_mm: tube.mean_diameter_mm.unwrap_or(DEFAULT_MEAN_DIAMETER_MM),
             },
-            Section::Rectangular => {
+            SectionShape::Rectangular => {
                 let a = tube.side_a_mm.unwrap_or(Real::NAN);
                 CrossSection::Rectangular(Rectangle {
                     thickness_mm: t,

@@ -3,7 +3,7 @@
 //! a 3D run its section at its own n too. The model owns the rungs so that a case asking for an
 //! error bar is held, with its rungs, to the runner's limits before it runs.
 
-use super::spec::{CaseSpec, LoadingMode, Model, Section, ShapeKind};
+use super::spec::{CaseSpec, LoadingMode, Model, SectionShape, ShapeKind};
 
 /// The coarsest rung of a ladder. The paper's section converges smoothly (order about 3) from
 /// n = 8 on, but not below: 13.648, 13.283 and 12.649 kN at n = 4, 6 and 8, where the steps
@@ -37,7 +37,7 @@ pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseS
             )
         }
     }
-    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != Section::Round {
+    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != SectionShape::Round {
         return Err(
             "a rectangular tube crushed axially has no reduced model to climb (the ladder \
              runs the axisymmetric section, and a rectangle has no axis of symmetry); \

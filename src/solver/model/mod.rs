@@ -16,6 +16,6 @@ pub mod input;
 pub mod ladder;
 pub mod limits;
 pub mod material;
-pub mod policy;
 pub mod schema;
+pub mod shape_policy;
 pub mod spec;

@@ -6,11 +6,11 @@
 //! d = 22.2 mm, l = 76.2 mm, E = 3378.4 MPa, ν = 0.42, σy = 65.5 MPa, ρ = 1380 kg/m³ — the
 //! density is our assumption, the source gives none; rigid PVC lies between 1300 and
 //! 1450 kg/m³). The material section's own types, its presets and how a preset fills it are
-//! in [`super::material::section`].
+//! in [`super::material::given`].
 
 use super::input::{clip, object, object_from_str, user_message};
 use super::limits::CaseError;
-pub use super::material::section::{
+pub use super::material::given::{
     CurveExtrapolation, HardeningKind, Material, MaterialModel, Preset, RateKind,
 };
 use schemars::JsonSchema;
@@ -52,8 +52,9 @@ pub struct CaseSpec {
 /// The shape of the tube's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, JsonSchema)]
 #[serde(rename_all = "snake_case")]
-#[schemars(transform = super::schema::choices)]
-pub enum Section {
+// `Section` in the API's schemas.
+#[schemars(rename = "Section", transform = super::schema::choices)]
+pub enum SectionShape {
     /// A circle of mean diameter d.
     #[default]
     Round,
@@ -61,12 +62,12 @@ pub enum Section {
     Rectangular,
 }
 
-impl Section {
+impl SectionShape {
     /// The name a case uses.
     pub fn name(self) -> &'static str {
         match self {
-            Section::Round => "round",
-            Section::Rectangular => "rectangular",
+            SectionShape::Round => "round",
+            SectionShape::Rectangular => "rectangular",
         }
     }
 }
@@ -84,7 +85,7 @@ pub struct Tube {
         title = "Cross-section",
         description = "round: a circle of mean diameter d. rectangular: sides a × b with rounded corners (a square when b is empty)."
     )]
-    pub section: Section,
+    pub section: SectionShape,
     /// Wall thickness t.
     #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter (round), less than the corner radius's double and the smaller side's half (rectangular).", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub thickness_mm: f64,
@@ -115,7 +116,7 @@ pub struct Tube {
 impl Default for Tube {
     fn default() -> Self {
         Tube {
-            section: Section::Round,
+            section: SectionShape::Round,
             thickness_mm: 3.2,
             mean_diameter_mm: Some(DEFAULT_MEAN_DIAMETER_MM),
             length_mm: 76.2,

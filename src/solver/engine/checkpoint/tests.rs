@@ -13,7 +13,7 @@ fn case(json: &str) -> Case {
 }
 
 /// Short cases of every engine: 3D axial with both shape functions, 3D with the trigger's weak
-/// particles, 3D lateral, and both sections.
+/// particles, 3D lateral, and both reduced models.
 fn cases() -> Vec<(&'static str, Case)> {
     let short = r#""loading": {"crush_distance_mm": 1.5, "plate_speed_m_s": 20},
                    "output": {"history_points": 30}"#;

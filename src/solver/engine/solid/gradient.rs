@@ -1,6 +1,6 @@
 //! The type a step stores each particle's velocity gradient in between the kinematics gather
 //! and the stress update (1/ms). Imports nothing of the solid model; `workspace.rs`,
-//! `averages.rs` and `stress.rs` import it.
+//! `averages.rs` and `deformation.rs` import it.
 
 use nalgebra::Matrix3;
 

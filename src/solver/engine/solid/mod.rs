@@ -11,8 +11,8 @@
 //! 6. the remap with the plates (`nodes.rs`): the velocity the particles move and strain with;
 //!    what the plates caught of it goes to the particles near them too (booked, like step 3);
 //! 7. g2p kinematics: velocity gradient and position;
-//! 8. the stress update (`stress.rs`, the engine's shared loop), with cell-averaged dilation
-//!    and pressure if asked (`averages.rs`).
+//! 8. the stress update (`deformation.rs`, through the engine's shared loop), with
+//!    cell-averaged dilation and pressure if asked (`averages.rs`).
 //!
 //! The velocity gradient always comes from the remapped grid velocities: a node that a particle
 //! barely touches gets a huge velocity from f/m in the grid update, and with linear shape
@@ -21,12 +21,12 @@
 //! with linear shapes, and with GIMP it was unstable once the material yielded.)
 //!
 //! What a node holds in each phase is in [`Node`]'s table; everything recomputed within a step
-//! is in [`Workspace`]. Imports the engine's kernel and shared pieces, never `section`.
+//! is in [`Workspace`]. Imports the engine's kernel and shared pieces, never `reduced`.
 
 mod averages;
+mod deformation;
 mod gradient;
 mod nodes;
-mod stress;
 mod transfer;
 mod workspace;
 

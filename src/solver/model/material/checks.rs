@@ -4,7 +4,7 @@
 
 use super::super::checker::Checker;
 use super::flow::MAX_CURVE_POINTS;
-use super::section::{HardeningKind, Material, RateKind};
+use super::given::{HardeningKind, Material, RateKind};
 
 /// A constant a law needs: given, finite and in `range` (`reason` says which).
 fn constant(c: &mut Checker, field: &str, v: Option<f64>, law: &str, ok: bool, reason: &str) {

@@ -8,7 +8,7 @@
 //! [`j2::J2`]: the radial return to the von Mises surface of a constant yield stress, the
 //! paper's model; [`metal::Metal`]: the implicit return to the surface of a hardening,
 //! rate-sensitive flow stress, [`flow`]). The case's material section, its presets and how they
-//! become a law are in [`section`] and [`preset`]. A law is chosen once per run
+//! become a law are in [`given`] and [`preset`]. A law is chosen once per run
 //! ([`MaterialLaw`]), so the stress loop over the particles stays monomorphic, and it runs on
 //! lanes ([`Lanes`]): `f64` for one particle, `f64x4` for four at once, with the same bits. The
 //! state a law reads besides the stress is the particle's own ([`Point`]): its trigger factor
@@ -19,16 +19,16 @@
 pub(super) mod checks;
 pub mod elastic;
 pub mod flow;
+pub mod given;
 pub mod j2;
 pub mod law;
 pub mod metal;
 pub mod preset;
 pub mod preset_names;
-pub mod section;
 
 use crate::solver::Real;
+use given::{HardeningKind, Material, MaterialModel, RateKind};
 use nalgebra::Matrix3;
-use section::{HardeningKind, Material, MaterialModel, RateKind};
 
 pub use elastic::Elastic;
 pub use j2::J2;
@@ -127,8 +127,8 @@ pub fn von_mises(s: &Sym) -> Real {
 }
 
 #[cfg(test)]
-mod metal_tests;
+mod given_tests;
 #[cfg(test)]
-mod section_tests;
+mod metal_tests;
 #[cfg(test)]
 mod tests;

@@ -3,7 +3,7 @@
 //! table with the sources in full); none is fitted here. The enum and its names are in
 //! `preset_names.rs`; this file gives each preset its values and their source.
 
-use super::section::{HardeningKind, Material, MaterialModel, RateKind};
+use super::given::{HardeningKind, Material, MaterialModel, RateKind};
 
 pub use super::preset_names::Preset;
 

@@ -1,6 +1,6 @@
 //! The presets a case can name (`material.preset`): the [`Preset`] enum, its names and the
 //! order the form lists them in. No values: what each preset fills in, and from which source,
-//! is in `preset.rs`. Imports nothing of the material folder; `section.rs` and `preset.rs`
+//! is in `preset.rs`. Imports nothing of the material folder; `given.rs` and `preset.rs`
 //! import it.
 
 use schemars::JsonSchema;

@@ -1,12 +1,12 @@
-//! The passes of a section step (units: mm, ms, g, N, MPa, mJ): the scatters, the two node
-//! passes with the plates, the two gathers and the stress update. Particle passes that write
-//! only their own particle run in parallel; the scatters run in bands of particles, each into a
-//! patch of its own, added onto the grid in a fixed order (so the bits do not depend on the
-//! thread count); the node passes, over a few thousand nodes, run on one thread.
+//! The passes of a reduced model's step (units: mm, ms, g, N, MPa, mJ): the scatters, the two
+//! node passes with the plates, the two gathers and the stress update. Particle passes that
+//! write only their own particle run in parallel; the scatters run in bands of particles, each
+//! into a patch of its own, added onto the grid in a fixed order (so the bits do not depend on
+//! the thread count); the node passes, over a few thousand nodes, run on one thread.
 
 use super::grid::PlaneStencil;
 use super::patch::Patch;
-use super::Section;
+use super::Reduced;
 use crate::solver::engine::grid::Transfer;
 use crate::solver::engine::kernel::SolveError;
 use crate::solver::engine::shape::Stencil;
@@ -19,10 +19,10 @@ use rayon::prelude::*;
 /// Particles per parallel work item.
 const CHUNK: usize = 512;
 
-/// Particles per scatter run (see [`Section::scatter`]).
+/// Particles per scatter run (see [`Reduced::scatter`]).
 const SCATTER_CHUNK: usize = 256;
 
-impl<S: Stencil> Section<S> {
+impl<S: Stencil> Reduced<S> {
     /// Particle → grid. `Full`: mass, momentum, internal force (with the hoop term) and plate
     /// touch, and each particle's cell; `Remap`: momentum only, onto the masses of the full one.
     ///
@@ -291,7 +291,7 @@ impl<S: Stencil> Section<S> {
     }
 }
 
-/// A section's [`Deformation`]: gradients in the 3D layout, averages per grid cell.
+/// A reduced model's [`Deformation`]: gradients in the 3D layout, averages per grid cell.
 struct Plane<'a> {
     grads: &'a [Matrix3<Real>],
     cell_of: &'a [u32],

@@ -3,8 +3,8 @@
 //! law, and every bad law is refused with its field and the reason.
 
 use super::flow::{Extrapolation, Hardening, Rate, Table};
+use super::given::{HardeningKind, RateKind};
 use super::preset::Preset;
-use super::section::{HardeningKind, RateKind};
 use super::{MaterialLaw, Metal, J2};
 use crate::solver::model::case::Case;
 use crate::solver::model::limits::{CaseError, FieldError, Limits};

@@ -61,7 +61,7 @@ impl Symmetry {
     }
 }
 
-/// Working memory of a section step (none of it state).
+/// Working memory of a reduced model's step (none of it state).
 #[derive(Debug, Default)]
 struct Scratch {
     /// Per particle: its velocity gradient of this step (1/ms), in the 3D layout.
@@ -77,17 +77,17 @@ struct Scratch {
     chunk_sums: Vec<ChunkSums>,
 }
 
-/// A section advancing in time with shape function `S`.
-pub struct Section<S: Stencil> {
+/// A reduced model: the tube's section advancing in time with shape function `S`.
+pub struct Reduced<S: Stencil> {
     pub state: State,
     symmetry: Symmetry,
     grid: PlaneGrid<S>,
     scratch: Scratch,
 }
 
-impl<S: Stencil> Section<S> {
+impl<S: Stencil> Reduced<S> {
     /// A section scene (built by `Scene::from_case` for a reduced model) under `symmetry`.
-    pub fn new(scene: Scene, symmetry: Symmetry) -> Section<S> {
+    pub fn new(scene: Scene, symmetry: Symmetry) -> Reduced<S> {
         let n = scene.particles.len();
         let scratch = Scratch {
             gradient: vec![Matrix3::zeros(); n],
@@ -96,7 +96,7 @@ impl<S: Stencil> Section<S> {
             patches: Vec::new(),
             chunk_sums: Vec::new(),
         };
-        Section {
+        Reduced {
             grid: PlaneGrid::new(scene.cell),
             state: State::new(scene),
             symmetry,
@@ -105,7 +105,7 @@ impl<S: Stencil> Section<S> {
     }
 }
 
-impl<S: Stencil> Phases for Section<S> {
+impl<S: Stencil> Phases for Reduced<S> {
     fn bin(&mut self, lp: Real) {
         self.grid.fit(&self.state.scene.particles.x, lp);
     }
@@ -133,7 +133,7 @@ impl<S: Stencil> Phases for Section<S> {
     }
 }
 
-impl<S: Stencil> Engine for Section<S> {
+impl<S: Stencil> Engine for Reduced<S> {
     fn state(&self) -> &State {
         &self.state
     }

@@ -8,7 +8,7 @@ use crate::solver::model::material::{Law, MaterialLaw, Point};
 use grid::PlaneStencil;
 use nalgebra::Vector3;
 
-fn section<S: Stencil>(model: &str) -> Section<S> {
+fn reduced<S: Stencil>(model: &str) -> Reduced<S> {
     let mode = if model == "axisymmetric" {
         "axial"
     } else {
@@ -24,12 +24,12 @@ fn section<S: Stencil>(model: &str) -> Section<S> {
     scene.plates[0].z += 100.0;
     scene.plates[1].z -= 100.0;
     let sym = Symmetry::of(case.spec().discretization.model).unwrap();
-    Section::new(scene, sym)
+    Reduced::new(scene, sym)
 }
 
 /// The step's transfers with a step of zero: the particles' velocities onto the grid and back
 /// as velocity gradients (in the scratch), nothing moved, no stress changed.
-fn kinematics_at_rest<S: Stencil>(sim: &mut Section<S>) {
+fn kinematics_at_rest<S: Stencil>(sim: &mut Reduced<S>) {
     let lp = sim.state.scene.half_size / sim.state.scene.cell;
     sim.grid.fit(&sim.state.scene.particles.x, lp);
     sim.scatter_particles::<Full>(lp);
@@ -44,7 +44,7 @@ fn kinematics_at_rest<S: Stencil>(sim: &mut Section<S>) {
 /// gradient is zero (Σ ∇N = 0).
 fn check_hoop_rate<S: Stencil>() {
     let vr = 2.5;
-    let mut sim = section::<S>("axisymmetric");
+    let mut sim = reduced::<S>("axisymmetric");
     for v in &mut sim.state.scene.particles.v {
         *v = Vector3::new(vr, 0.0, 0.0);
     }
@@ -74,7 +74,7 @@ fn a_uniform_radial_velocity_gives_the_hoop_rate_v_over_r() {
 /// −Σ V σ / r and their axial forces to zero.
 fn check_hoop_force<S: Stencil>(model: &str, hoop: Real) {
     let sigma = 40.0;
-    let mut sim = section::<S>(model);
+    let mut sim = reduced::<S>(model);
     for s in &mut sim.state.scene.particles.stress {
         *s = [0.0, sigma, 0.0, 0.0, 0.0, 0.0];
     }
@@ -139,7 +139,7 @@ fn plane_strain_stress_along_the_tube_exerts_no_force() {
 /// stress update then builds σ_yy = λ·(ε_xx + ε_zz) (no strain along y, the plane-strain law).
 #[test]
 fn plane_strain_keeps_the_axial_strain_rate_zero() {
-    let mut sim = section::<Linear>("plane_strain");
+    let mut sim = reduced::<Linear>("plane_strain");
     let rate = 1e-3;
     for (v, x) in sim
         .state
@@ -193,7 +193,7 @@ fn a_plane_strain_particle_on_x_0_has_finite_forces_and_gradients() {
     for v in &mut scene.particles.v {
         v.x = 1e-3;
     }
-    let mut sim = Section::<Gimp>::new(scene, Symmetry::PlaneStrain);
+    let mut sim = Reduced::<Gimp>::new(scene, Symmetry::PlaneStrain);
     kinematics_at_rest(&mut sim);
     assert!(sim.grid.force.iter().flatten().all(|f| f.is_finite()));
     assert!(sim
