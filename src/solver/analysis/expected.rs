@@ -27,14 +27,11 @@ pub const STUDIED_D_OVER_T: f64 = 22.2 / 3.2;
 /// studies of thinner walls are stored beside it.
 pub const NEAR_FACTOR: f64 = 1.25;
 
-/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/validation.md §9).
+/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/validation.md §9). Its
+/// uGIMP mean load fell 9.8 % from n = 3 to 6 and changed 0.2 % from n = 4 to 6, within what
+/// the paper's tube's 3D errors (17.0, 11.6 and 6.3 % at n = 3, 4 and 6) allow, so those
+/// errors guide it too; the study has no run past n = 6 to say more.
 pub const THIN_D_OVER_T: f64 = 44.8 / 3.2;
-
-/// How much larger the thin wall's error is than the paper's tube's at the same n in 3D
-/// uGIMP: the ratio of their mean loads' fall from n = 3 to 4, relative to n = 4 — the d/t 14
-/// tube's 17.101 → 15.537 kN (10.1 %) against the paper's 14.576 → 13.902 kN (4.85 %), 2.08.
-/// A model, not a converged answer: docs/validation.md §9 holds it to the d/t 14 tube's n = 6.
-pub const THIN_SCALE: f64 = 2.1;
 
 /// A run's expected error: its size where a study guides it, and what it is based on, or why
 /// there is none.
@@ -74,13 +71,12 @@ pub fn at(case: &Case, model: Model, shape: ShapeKind, n: u32) -> ExpectedError 
                     .into(),
             };
         }
-        let percent = expected_error_percent(mode, model, shape, n).map(|p| p * THIN_SCALE);
         return ExpectedError {
-            percent,
+            percent: expected_error_percent(mode, model, shape, n),
             basis: format!(
-                "expected, not priced: the paper's tube's 3D error at n = {n} times \
-                 {THIN_SCALE}, as the d/t 14 tube's mean load fell {THIN_SCALE} times as far \
-                 from n = 3 to 4 (PVC, uGIMP, docs/validation.md §9)"
+                "expected, not priced: the paper's tube's 3D error at n = {n}, which covers \
+                 the d/t 14 tube's measured changes (n = 3 +9.8 % and n = 4 -0.2 % against \
+                 its n = 6; PVC, uGIMP, docs/validation.md §9)"
             ),
         };
     }
@@ -224,10 +220,10 @@ mod tests {
         assert!(d(5.4).is_none());
     }
 
-    /// The d/t 14 wall reads the paper's 3D errors scaled by its own measured fall, in a 3D
-    /// axial uGIMP run only: its section, a lateral crush or linear shapes have no guide.
+    /// The d/t 14 wall reads the paper's 3D errors, in a 3D axial uGIMP run only: its section,
+    /// a lateral crush or linear shapes have no guide.
     #[test]
-    fn the_thin_wall_reads_the_paper_s_3d_errors_scaled_by_its_own_fall() {
+    fn the_thin_wall_reads_the_paper_s_3d_errors_in_a_3d_axial_crush_only() {
         let thin = |extra: &str| {
             of_case(&case(&format!(
                 r#"{{"tube": {{"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4}},
@@ -237,7 +233,7 @@ mod tests {
         let e = thin(r#", "discretization": {"particles_through_thickness": 4}"#);
         let paper =
             expected_error_percent(LoadingMode::Axial, Model::ThreeD, ShapeKind::Gimp, 4).unwrap();
-        assert_eq!(e.percent, Some(paper * THIN_SCALE), "{e:?}");
+        assert_eq!(e.percent, Some(paper), "{e:?}");
         assert!(e.basis.contains("d/t 14"), "{e:?}");
         for extra in [
             r#", "discretization": {"model": "axisymmetric"}"#,
