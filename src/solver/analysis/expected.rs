@@ -52,7 +52,7 @@ pub fn of_case(case: &Case) -> ExpectedError {
 
 /// The expected error of `case` run with `model`, `shape` and `n` particles through the wall.
 pub fn at(case: &Case, model: Model, shape: ShapeKind, n: u32) -> ExpectedError {
-    let wall = match far(case, shape) {
+    let wall = match guiding_wall(case, shape) {
         Err(why) => {
             return ExpectedError {
                 percent: None,
@@ -105,7 +105,7 @@ enum Wall {
 }
 
 /// The studied wall that guides `case` with `shape`, or why none does.
-fn far(case: &Case, shape: ShapeKind) -> Result<Wall, String> {
+fn guiding_wall(case: &Case, shape: ShapeKind) -> Result<Wall, String> {
     let section = case.geometry().section;
     let CrossSection::Round { .. } = section else {
         return Err("the studies are of round tubes; no rectangular tube's is measured".into());
