@@ -1,4 +1,4 @@
-//! `crush serve | run | estimate | plan | bench | bench-plan | study | openapi`: wires configuration to the library; nothing else lives here.
+//! `crush serve | run | estimate | plan | bench | bench-plan | study | validate | openapi`: wires configuration to the library; nothing else lives here.
 
 use clap::{Parser, Subcommand};
 
@@ -26,6 +26,9 @@ enum Command {
     Plan(crush::cli::PlanArgs),
     /// Accuracy and stability studies: convergence, stability, speed.
     Study(crush::cli::StudyArgs),
+    /// The validation suite: the seed paper's scenes and the measured tubes beside ours, as a
+    /// report (Markdown, HTML, JSON); non-zero when a check leaves its band.
+    Validate(crush::cli::ValidateArgs),
     /// Print the HTTP contract (OpenAPI 3.1, YAML): api/paths.yaml's prose with the schemas
     /// generated from the types; `api/openapi.yaml` is this output.
     Openapi,
@@ -69,6 +72,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Study(args) => crush::cli::study(args),
+        Command::Validate(args) => crush::cli::validate(args),
         Command::BenchOne(args) => crush::cli::bench_one(args),
     }
 }

@@ -3,7 +3,7 @@
 //! CASE.json` prints what a case will cost and what its verdict can say before it runs;
 //! `crush plan CASE.json` the runs that reach a target error or fit a budget (`crush
 //! bench-plan` holds its wall-time guesses to measured runs); `crush bench` measures the solver's speed and memory; `crush study` runs convergence,
-//! stability and plate-speed studies.
+//! stability and plate-speed studies; `crush validate` the validation suite and its report.
 
 mod args;
 mod bench;
@@ -16,6 +16,7 @@ mod report;
 mod run;
 mod series;
 mod study;
+mod validate;
 
 pub use args::{EstimateArgs, RunArgs};
 pub use bench::{bench, bench_one, BenchArgs, BenchOneArgs};
@@ -26,6 +27,7 @@ pub use plan_bench::{bench_plan, BenchPlanArgs};
 pub use report::format_report;
 pub use run::run;
 pub use study::{study, StudyArgs};
+pub use validate::{validate, ValidateArgs};
 
 #[cfg(test)]
 mod tests {

@@ -188,7 +188,7 @@ mod tests {
         // 6 % against the extrapolation: only n = 8 qualifies; 11 %: n = 4 is cheaper.
         assert_eq!(g.cheapest_within(0.06).unwrap().run.n, 8);
         assert_eq!(g.cheapest_within(0.11).unwrap().run.n, 4);
-        // What the trilinear runs of docs/validation.md showed: n = 2 within 5 % of the finest
+        // What the trilinear runs of docs/studies.md showed: n = 2 within 5 % of the finest
         // (+3.8 %), n = 3 not (−5.3 %), n = 4 within (−0.5 %): n = 2 is no recommendation.
         let lucky = analyse(&[
             run("linear", 2, 14.094, 3.1),

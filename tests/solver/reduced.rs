@@ -91,7 +91,7 @@ fn an_elastic_cylinder_between_frictionless_plates_is_in_uniaxial_stress() {
 /// I = t³·l/12 and E′ = E/(1 − ν²) in plane strain. The neglected shear and curvature terms are
 /// O((t/R)²), about 1 % softer here; the contact patch at 1 % of the diameter is small against R.
 /// uGIMP with eight particles through the wall, without cell averaging (which costs bending
-/// stiffness when only two to four cells span the wall: docs/validation.md), measured 5.5 %
+/// stiffness when only two to four cells span the wall: docs/studies.md), measured 5.5 %
 /// soft; 8 % allows that and still tells plane strain from plane stress (E instead of E′, 17 %
 /// softer).
 #[test]
@@ -158,7 +158,7 @@ fn hinge_heights(out: &RunOutput, h: f64, outer: f64, t: f64) -> Vec<f64> {
 /// hinge at the same height within a cell. Both discretize the wall alike through the
 /// thickness and along; 3D also around, in rings of particles one spacing apart, which the
 /// section does not have: their gap closes with n (measured 7.0 % at n = 2, 0.8 % at n = 3,
-/// 1.8 % at n = 4, 0.3 % at n = 6; docs/validation.md), and 3 % holds from n = 3 on.
+/// 1.8 % at n = 4, 0.3 % at n = 6; docs/studies.md), and 3 % holds from n = 3 on.
 fn axisymmetric_against_3d(n: u32) {
     let json = |model: &str| {
         format!(

@@ -3,7 +3,7 @@
 //!
 //! Basis: the tube's section (axisymmetric for an axial crush, plane strain for a lateral one)
 //! converges in seconds, and at the same n the 3D run and its section agree within 0.2–0.5 %
-//! from n = 6 on (docs/validation.md §8). So the section is run at three resolutions m, 1.5 m
+//! from n = 6 on (docs/studies.md §8). So the section is run at three resolutions m, 1.5 m
 //! and 2 m with m = max(n, [`LOWEST_RUNG`]) (a section's own run is the rung it matches), the
 //! converged value is read off by Richardson extrapolation (or, when the ladder does not
 //! converge monotonically, taken as the finest rung with the ladder's whole spread as its

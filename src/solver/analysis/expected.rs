@@ -27,7 +27,7 @@ pub const STUDIED_D_OVER_T: f64 = 22.2 / 3.2;
 /// studies of thinner walls are stored beside it.
 pub const NEAR_FACTOR: f64 = 1.25;
 
-/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/validation.md §9). Its
+/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/studies.md §9). Its
 /// uGIMP mean load fell 9.8 % from n = 3 to 6 and changed 0.2 % from n = 4 to 6, within what
 /// the paper's tube's 3D errors (17.0, 11.6 and 6.3 % at n = 3, 4 and 6) allow, so those
 /// errors guide it too; the study has no run past n = 6 to say more.
@@ -76,7 +76,7 @@ pub fn at(case: &Case, model: Model, shape: ShapeKind, n: u32) -> ExpectedError 
             basis: format!(
                 "expected, not priced: the paper's tube's 3D error at n = {n}, which covers \
                  the d/t 14 tube's measured changes (n = 3 +9.8 % and n = 4 -0.2 % against \
-                 its n = 6; PVC, uGIMP, docs/validation.md §9)"
+                 its n = 6; PVC, uGIMP, docs/studies.md §9)"
             ),
         };
     }
@@ -100,7 +100,7 @@ pub fn at(case: &Case, model: Model, shape: ShapeKind, n: u32) -> ExpectedError 
 enum Wall {
     /// The paper's tube, d/t 6.9: studied in 3D and in both sections to convergence.
     Thick,
-    /// The d/t 14 tube: studied in 3D axial crushes (docs/validation.md §9).
+    /// The d/t 14 tube: studied in 3D axial crushes (docs/studies.md §9).
     Thin,
 }
 

@@ -212,7 +212,7 @@ pub fn law_factor(model: Model, law: LawKind) -> f64 {
 /// 8 mm crushes of the AA6060-T5 tube (d 48.33, t 1.67, n 3) 7.99 M (linear) and 4.94 M (uGIMP,
 /// μ 0.3); the section: the README's first run (axisymmetric, n 6) 3.33 M on two threads.
 /// B-splines scaled from uGIMP by their ratio on a faster machine (2.7 against 6.6 M in 3D,
-/// 5.5 against 4.4 M in the section; docs/folding.md §4). Rounded down: a faster machine sees
+/// 5.5 against 4.4 M in the section). Rounded down: a faster machine sees
 /// shorter runs than these say, and a server calibrates on its own runs.
 fn assumed_one_thread(model: Model, shape: ShapeKind) -> f64 {
     match (model, shape) {

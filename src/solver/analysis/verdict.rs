@@ -145,7 +145,7 @@ pub fn of_failure(message: &str) -> Option<Verdict> {
 const UNSTABLE_PREFIX: &str = "unstable at step";
 
 /// Energy-balance error beyond which a result is marked caution: the paper's examples close
-/// their books to 0.7–1.5 % (docs/validation.md), so 2 % is past what a sound run shows.
+/// their books to 0.7–1.5 % (docs/studies.md), so 2 % is past what a sound run shows.
 pub const BALANCE_CAUTION: f64 = 0.02;
 /// ... and not trusted: 5 % of the plates' work unaccounted for is the size of the effects a
 /// mean load is read for.
@@ -172,7 +172,7 @@ pub fn foreseen(case: &Case) -> Vec<Reason> {
     let mut reasons: Vec<Reason> = implausible(geometry).into_iter().collect();
     // One particle through the wall gives it no bending stiffness (one stress point through
     // the thickness cannot carry a moment); with two the paper's tube comes out 23 % above its
-    // converged mean load (3D uGIMP, 15.31 against 12.45 kN; docs/validation.md) and with
+    // converged mean load (3D uGIMP, 15.31 against 12.45 kN; docs/studies.md) and with
     // three 17 %.
     if n < 2 {
         reasons.push(Reason {

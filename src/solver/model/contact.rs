@@ -181,7 +181,7 @@ pub fn apply(
 /// of its particles' shape functions): a finite force over almost no mass gives it a velocity
 /// of 10⁷ mm/ms after the force update, and a partial slip booked against that books a friction
 /// the particles never had (189 mJ in one step on a thin tube at its first peak, at the 4e-9 of
-/// a particle's mass of two such nodes; docs/validation.md §4).
+/// a particle's mass of two such nodes; docs/studies.md §4).
 #[inline]
 pub fn apply_slip_deferred(
     k: usize,

@@ -23,7 +23,7 @@ pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseS
             return Err(
                 "linear shape functions (the default for a thin wall in 3D) have no \
                         converged answer on thin walls to measure the error against yet \
-                        (docs/validation.md §5); run with discretization.shape \"gimp\" for an \
+                        (docs/studies.md §5); run with discretization.shape \"gimp\" for an \
                         error bar"
                     .into(),
             )

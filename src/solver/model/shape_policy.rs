@@ -1,5 +1,5 @@
 //! The shape-function policy: which shape functions a case that names none runs with, and why
-//! (`docs/validation.md` §4, "Which shape function for which wall").
+//! (`docs/studies.md` §5, "Which shape function for which wall").
 
 use super::geometry::CrossSection;
 use super::spec::{Model, ShapeKind};
@@ -7,7 +7,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The d/t from which a wall is thin: a 3D case of such a wall on near-frictionless plates
-/// runs with linear shapes by default. `docs/validation.md` §4, "Which shape function for
+/// runs with linear shapes by default. `docs/studies.md` §5, "Which shape function for
 /// which wall", holds the runs behind it: at d/t 6.9 both shapes fold the paper's tube in
 /// rings and uGIMP closes its books better; at d/t 9.4 and 26 uGIMP let tubes tip over
 /// between the source's plates (μ 0.02) that linear shapes fold progressively.
@@ -48,7 +48,7 @@ pub struct ShapeChoice {
 
 impl ShapeKind {
     /// The shape functions for a case that names none, and why: uGIMP, which converges with n
-    /// where linear shapes do not (docs/validation.md §1, docs/folding.md §7) and folds a tube
+    /// where linear shapes do not (docs/studies.md §1, docs/folding.md §7) and folds a tube
     /// nearly alike when the whole crush moves through the grid (docs/folding.md §4, "Which
     /// end folds first"), but for a thin wall (d/t ≥ [`THIN_WALL_D_OVER_T`]) in 3D on
     /// near-frictionless plates (μ < [`HOLDING_FRICTION`]): uGIMP yields both ends of such a

@@ -169,7 +169,7 @@ pub struct Loading {
 }
 
 /// The default plate-speed ramp, mm: the shortest of those measured that brings the start
-/// peak of a mild-steel tube within 2.5 % of a ramp twice as long (`docs/validation.md` §6).
+/// peak of a mild-steel tube within 2.5 % of a ramp twice as long (`docs/studies.md` §6).
 pub const DEFAULT_RAMP_MM: f64 = 0.5;
 
 impl Loading {

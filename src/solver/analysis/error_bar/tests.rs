@@ -65,7 +65,7 @@ fn an_exact_power_law_ladder_extrapolates_to_its_limit_and_holds_it() {
     assert_eq!((l.cost_s, l.cost_fraction), (3.0, 0.03));
 }
 
-/// The paper's axial case (uGIMP, 50 mm) as docs/validation.md §1 measured it: 3D at n = 4,
+/// The paper's axial case (uGIMP, 50 mm) as docs/studies.md §1 measured it: 3D at n = 4,
 /// 6, 8 and 10 gave 13.902, 13.233, 12.715 and 12.591 kN; the axisymmetric section 13.648,
 /// 13.283, 12.649, 12.566, 12.561 and 12.499 kN at n = 4, 6, 8, 10, 12 and 16 (15 and 20 below).
 /// Each run's ladder must hold the converged 12.454 kN (the section's Richardson value
@@ -272,7 +272,7 @@ fn an_error_bar_is_priced_unasked_only_where_it_costs_at_most_a_quarter_of_the_r
 /// The lateral example (t 3.2, d 22.2, l 76.2, 12.5 mm, uGIMP) in 3D at n = 4: 5 297.2 N; its
 /// plane-strain section at n = 4, 8, 12, 16: 5 323.1, 5 452.4, 5 489.1, 5 502.7 N (`crush run
 /// --error-bar`, two threads). The section settles at 5.489–5.503 kN from n = 12 to 24
-/// (docs/validation.md §8): the interval must hold that plateau, and its error range the run's
+/// (docs/studies.md §8): the interval must hold that plateau, and its error range the run's
 /// error against it.
 #[test]
 fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {

@@ -1,5 +1,5 @@
 //! The error model: the size of the mean load's discretization error at n, from the
-//! convergence studies of the paper's tube (t 3.2 mm, d 22.2 mm, uGIMP), docs/validation.md §1
+//! convergence studies of the paper's tube (t 3.2 mm, d 22.2 mm, uGIMP), docs/studies.md §1
 //! and §8, restated in docs/trust.md. Units: %.
 
 use crate::solver::model::case::{LoadingMode, Model, ShapeKind};
