@@ -36,11 +36,13 @@ function summaryTable(s) {
 
 // The mean load's error bar: where the converged load lies and so how far off this run is.
 function errorBarText(b) {
-  if (b.basis !== "reduced_ladder") return el("span", { id: "error-bar", class: "small" }, `none: ${b.why}`);
+  if (b.basis !== "reduced_ladder" && b.basis !== "three_d_ladder") return el("span", { id: "error-bar", class: "small" }, `none: ${b.why}`);
   const p = (x) => (x === null || x === undefined ? "?" : `${x >= 0 ? "+" : ""}${(100 * x).toFixed(1)} %`);
+  const ns = b.rungs.map((r) => r.n).join(", ");
+  const from = b.basis === "three_d_ladder" ? `from 3D runs of this case at n = ${ns}` : `from its ${b.model.replace("_", " ")} section at n = ${ns}`;
   return el("span", { id: "error-bar", title: b.covers },
     `converged ${kN(b.low_n)} – ${kN(b.high_n)}; this run ${p(b.error)} (${p(b.error_low)} to ${p(b.error_high)}), ` +
-    `from its ${b.model.replace("_", " ")} section at n = ${b.rungs.map((r) => r.n).join(", ")} (${seconds(b.cost_s)})`);
+    `${from} (${seconds(b.cost_s)})`);
 }
 
 // The first collapse peak's error bar, from the same ladder.

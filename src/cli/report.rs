@@ -128,7 +128,7 @@ fn load_lines(o: &mut String, s: &Summary) {
 /// The priced error bar of the mean load and the first collapse peak, or why there is none.
 fn error_bar_lines(o: &mut String, s: &Summary) {
     match &s.error_bar {
-        Some(ErrorBar::ReducedLadder(l)) => {
+        Some(ErrorBar::ReducedLadder(l) | ErrorBar::ThreeDLadder(l)) => {
             let _ = writeln!(
                 o,
                 "  error bar        converged mean load in [{}, {}], best {}: this run {:+.1} % ({:+.1} .. {} %)",
@@ -312,7 +312,7 @@ fn verdict_line(v: &Verdict, s: &Summary) -> String {
         return v.level.name().to_string();
     }
     let within = match (&s.error_bar, &s.expected_error) {
-        (Some(ErrorBar::ReducedLadder(l)), _) => format!(
+        (Some(ErrorBar::ReducedLadder(l) | ErrorBar::ThreeDLadder(l)), _) => format!(
             "within {:+.1} .. {} % of the converged mean load by its error bar",
             100.0 * l.error_low,
             l.error_high

@@ -3,8 +3,10 @@
 //! was given whatever else the process runs, and its results do not depend on them (every sum
 //! of a step runs in a fixed order).
 
-use super::analysis::error_bar::{self, ErrorBar, Rung};
-use super::analysis::estimate::{error_bar_cost_fraction, UNASKED_ERROR_BAR_FRACTION};
+use super::analysis::error_bar::{self, Climb, ErrorBar, Rung};
+use super::analysis::estimate::{
+    error_bar_cost_fraction, three_d_ladder_cost_fraction, UNASKED_ERROR_BAR_FRACTION,
+};
 use super::engine::scene::Scene;
 use super::model::case::Model;
 use super::{Case, Observer, Resume, RunOutput, RungProgress, SolveError};
@@ -90,7 +92,9 @@ impl Runner {
     /// The run's error bar ([`error_bar`]), or why it has none, in the output's summary: its
     /// reduced twin run at the ladder's resolutions on the pool when the case asks for it
     /// (`output.error_bar`) or when that costs at most [`UNASKED_ERROR_BAR_FRACTION`] of the
-    /// run; else the summary says why not (no ladder for this run, or what it would cost).
+    /// run; else the summary says why not (no ladder for this run, or what it would cost). A
+    /// 3D ladder ([`Climb::ThreeD`]) is priced only when asked: from n = 4 on it costs more
+    /// than that.
     /// `ladder` is told each rung's progress and result, and hands back the rungs an earlier
     /// attempt finished, which are not run again.
     pub fn add_error_bar_if_asked(
@@ -103,9 +107,34 @@ impl Runner {
         if case.spec().output.error_bar {
             return self.add_error_bar(case, out, ladder, cancel);
         }
-        if let Err(why) = error_bar::ladder(case, out.summary.mode) {
-            out.summary.error_bar = Some(ErrorBar::Unavailable { why });
-            return Ok(());
+        match error_bar::ladder(case, out.summary.mode) {
+            Err(why) => {
+                out.summary.error_bar = Some(ErrorBar::Unavailable { why });
+                return Ok(());
+            }
+            Ok(error_bar::Rungs {
+                climb: Climb::ThreeD { why_not_section },
+                rungs,
+            }) => {
+                let coarser: Vec<String> = rungs
+                    .iter()
+                    .filter(|(_, c)| c.is_some())
+                    .map(|(k, _)| k.to_string())
+                    .collect();
+                let cost = three_d_ladder_cost_fraction(case).map_or_else(String::new, |f| {
+                    format!(" for about {:.0} % of this run's time", 100.0 * f)
+                });
+                out.summary.error_bar = Some(ErrorBar::Unavailable {
+                    why: format!(
+                        "{why_not_section}; not priced: a 3D ladder (this case at n = {}) \
+                         would price it{cost}, and is priced only when asked; set \
+                         output.error_bar to price it",
+                        coarser.join(" and "),
+                    ),
+                });
+                return Ok(());
+            }
+            Ok(_) => {}
         }
         match error_bar_cost_fraction(case) {
             Some(f) if f <= UNASKED_ERROR_BAR_FRACTION => {
@@ -137,7 +166,7 @@ impl Runner {
     ) -> Result<(), SolveError> {
         let bar = match error_bar::ladder(case, out.summary.mode) {
             Err(why) => ErrorBar::Unavailable { why },
-            Ok(rungs) => {
+            Ok(error_bar::Rungs { rungs, .. }) => {
                 let total = rungs.len();
                 let mut done = Vec::with_capacity(total);
                 let mut model = None;
@@ -213,3 +242,6 @@ impl Observer for RungObserver<'_> {
         self.ladder.on_rung_progress(&self.at);
     }
 }
+
+#[cfg(test)]
+mod tests;

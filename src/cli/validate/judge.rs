@@ -90,7 +90,7 @@ pub fn error_bar_text(e: &Entry) -> String {
         .and_then(|x| x.percent)
         .map(|p| format!("expected ±{p:.1} %"));
     match &e.summary.error_bar {
-        Some(ErrorBar::ReducedLadder(l)) => {
+        Some(ErrorBar::ReducedLadder(l) | ErrorBar::ThreeDLadder(l)) => {
             format!("converged in [{:.2}, {:.2}]", l.low_n / 1e3, l.high_n / 1e3)
         }
         _ => expected.unwrap_or_else(|| "no error bar".into()),

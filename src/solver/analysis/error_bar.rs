@@ -10,20 +10,27 @@
 //! uncertainty), and for a 3D run the interval is widened by the gap between the run and its
 //! section at the same n.
 //!
+//! A 3D run whose collapse its section cannot fold (a diamond, a global buckle, a tube that
+//! tipped over, or any axial crush of a rectangular tube) climbs a 3D ladder instead, when the
+//! case asks for an error bar: the same case at n − 2 and n − 1, and the run itself at n, read
+//! the same way with h = 1/n and no twin gap (the run is its own finest rung). Those rungs cost
+//! ((n − 2)/n)⁴ + ((n − 1)/n)⁴ of the run (21 % at n = 3, 38 % at n = 4, 68 % at n = 6, 1.36
+//! times at n = 16), from n = 4 on more than an unasked error bar may add, so it is priced only
+//! when asked and an unasked run says how to ask for it instead.
+//!
 //! The first collapse peak ([`super::measures`]) gets an interval of its own from the same
 //! rungs, read the same way ([`PeakInterval`]), when the run and every rung have one.
 //!
-//! It covers the resolution error of the mean load and of the first collapse peak of a ring
-//! (axial) or flattening (lateral) collapse with uGIMP shape functions. It does not cover:
-//! lobes (a diamond or a global buckle cannot be run as a section), linear shape functions (no
-//! converged answer on thin walls yet), or the model's own error against a real tube
-//! (material, friction, rate).
+//! It covers the resolution error of the mean load and of the first collapse peak with uGIMP
+//! shape functions. It does not cover: linear shape functions (no converged answer on thin
+//! walls yet), the spread over trigger.seed of a 3D run's lobes, or the model's own error
+//! against a real tube (material, friction, rate).
 
 use super::mode::CollapseMode;
 use super::richardson::{richardson, Extrapolation};
-use crate::solver::model::case::{Case, Limits, LoadingMode, Model};
-use crate::solver::model::ladder::rungs;
+use crate::solver::model::case::{Case, Limits, LoadingMode, Model, ShapeKind};
 pub use crate::solver::model::ladder::LOWEST_RUNG;
+use crate::solver::model::ladder::{rungs, three_d_rungs, three_d_too_coarse, THREE_D_LOWEST_N};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +40,9 @@ use serde::{Deserialize, Serialize};
 pub enum ErrorBar {
     /// Priced by a ladder of the reduced twin.
     ReducedLadder(Ladder),
+    /// Priced by coarser 3D runs of the same case (n − 2, n − 1) and the run itself, for a 3D
+    /// run whose collapse its section cannot fold.
+    ThreeDLadder(Ladder),
     /// No basis for this run; `why` says which.
     Unavailable { why: String },
 }
@@ -60,7 +70,7 @@ pub struct Ladder {
     pub order: Option<f64>,
     pub extrapolated: bool,
     /// |run − twin at the same n| / estimate: what the section does not share with the run
-    /// (0 for a section's own ladder).
+    /// (0 for a section's own ladder, and for a 3D ladder, whose finest rung is the run).
     pub twin_gap: f64,
     /// Wall time of the rungs run for it, s, and that over the run's own.
     pub cost_s: f64,
@@ -86,7 +96,7 @@ pub struct PeakInterval {
     /// Richardson's observed order, when the rungs' peaks converge monotonically.
     pub order: Option<f64>,
     pub extrapolated: bool,
-    /// |run − twin at the same n| / estimate (0 for a section's own ladder).
+    /// |run − twin at the same n| / estimate (0 for a ladder of the run's own model).
     pub twin_gap: f64,
 }
 
@@ -115,8 +125,9 @@ struct Reading {
 /// finest are the ladder proper) for a run whose value is `run_value`: Richardson's
 /// extrapolation when trusted, with the whole way from the finest rung to it as its
 /// uncertainty; else the finest rung with the ladder's whole spread. The half-width adds the
-/// gap between a 3D run and its twin at the same n, and [`MODEL_GAP_FLOOR`].
-fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, three_d: bool) -> Reading {
+/// gap between a 3D run and its twin at the same n (`twin`: the rungs ran in another model),
+/// and [`MODEL_GAP_FLOOR`].
+fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, twin: bool) -> Reading {
     let finest = values[values.len() - 1].1;
     let ladder = &values[values.len() - 3..];
     let points: Vec<(f64, f64)> = ladder.iter().map(|&(n, v)| (1.0 / n as f64, v)).collect();
@@ -135,7 +146,7 @@ fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, three_d: bool) -> Rea
         ),
     };
     let twin_gap = match values.iter().find(|&&(n, _)| n == run_n) {
-        Some(&(_, twin)) if three_d => (run_value - twin).abs(),
+        Some(&(_, at_n)) if twin => (run_value - at_n).abs(),
         _ => 0.0,
     };
     let half = spread + twin_gap + MODEL_GAP_FLOOR * estimate.abs();
@@ -150,13 +161,13 @@ fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, three_d: bool) -> Rea
 }
 
 /// The first collapse peak's interval, when the run and every rung have a first peak.
-fn first_peak(rungs: &[Rung], run: &Rung, three_d: bool) -> Option<PeakInterval> {
+fn first_peak(rungs: &[Rung], run: &Rung, twin: bool) -> Option<PeakInterval> {
     let run_peak = run.first_peak_load_n?;
     let values: Option<Vec<(u32, f64)>> = rungs
         .iter()
         .map(|r| r.first_peak_load_n.map(|p| (r.n, p)))
         .collect();
-    let r = read(&values?, run_peak, run.n, three_d);
+    let r = read(&values?, run_peak, run.n, twin);
     Some(PeakInterval {
         estimate_n: r.estimate,
         low_n: r.low,
@@ -170,50 +181,101 @@ fn first_peak(rungs: &[Rung], run: &Rung, three_d: bool) -> Option<PeakInterval>
 
 /// The floor of the interval's half-width, as a share of the estimate: the 3D run and its
 /// section differ by 0.2–0.5 % at the same n once resolved, a difference no ladder of the
-/// section can see.
+/// section can see; a 3D ladder keeps the same floor, as three coarse rungs can agree by
+/// chance.
 pub const MODEL_GAP_FLOOR: f64 = 0.005;
 
-/// The rungs to run for `case`, each a case of the reduced model, with `None` for the rung that
-/// is the run itself; or why there is no ladder (the case's shape functions or its n, or a run
-/// that collapsed, in `mode`, in a way its section cannot).
-pub fn ladder(case: &Case, mode: CollapseMode) -> Result<Vec<(u32, Option<Case>)>, String> {
+/// The runs a ladder climbs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Climb {
+    /// The tube's section (reduced model) at the ladder's resolutions.
+    Section,
+    /// The 3D case itself at n − 2 and n − 1; `why_not_section` says why its section does not
+    /// price this run.
+    ThreeD { why_not_section: String },
+}
+
+/// The rungs to run for a run's error bar: what they climb, and each rung's n with its case
+/// (`None` for the rung that is the run itself).
+#[derive(Debug, Clone)]
+pub struct Rungs {
+    pub climb: Climb,
+    pub rungs: Vec<(u32, Option<Case>)>,
+}
+
+/// The rungs to run for `case`, after it collapsed in `mode`: its section's ladder where the
+/// section can fold that way, else for a 3D uGIMP run the 3D ladder; or why there is no ladder
+/// (the case's shape functions or its n).
+pub fn ladder(case: &Case, mode: CollapseMode) -> Result<Rungs, String> {
     let spec = case.spec();
-    let rungs = rungs(spec, case.shape())?;
+    let three_d = spec.discretization.model == Model::ThreeD;
     let folded_alike = matches!(mode, CollapseMode::Ring | CollapseMode::Flattening);
-    if spec.discretization.model == Model::ThreeD && !folded_alike {
-        return Err(format!(
-            "the run collapsed as {}: its section can fold only as {}, so a ladder of the \
-             section does not price this run's error (run an ensemble over trigger.seed for \
-             the spread)",
-            mode.kind().replace('_', " "),
-            match spec.loading.mode {
-                LoadingMode::Axial => "rings",
-                LoadingMode::Lateral => "a flattening",
+    let section = rungs(spec, case.shape()).and_then(|r| {
+        if three_d && !folded_alike {
+            return Err(format!(
+                "the run collapsed as {}: its section can fold only as {}, so a ladder of the \
+                 section does not price this run's error",
+                mode.kind().replace('_', " "),
+                match spec.loading.mode {
+                    LoadingMode::Axial => "rings",
+                    LoadingMode::Lateral => "a flattening",
+                }
+            ));
+        }
+        Ok(r)
+    });
+    let (climb, specs) = match section {
+        Ok(r) => (Climb::Section, r),
+        Err(why) if three_d && case.shape() == ShapeKind::Gimp => {
+            match three_d_rungs(spec, case.shape()) {
+                Ok(r) => (
+                    Climb::ThreeD {
+                        why_not_section: why,
+                    },
+                    r,
+                ),
+                Err(too_coarse) => return Err(format!("{why}; {too_coarse}")),
             }
-        ));
-    }
-    rungs
+        }
+        Err(why) => return Err(why),
+    };
+    let what = match climb {
+        Climb::Section => "the section",
+        Climb::ThreeD { .. } => "the 3D run",
+    };
+    let rungs = specs
         .into_iter()
         .map(|(k, twin)| match twin {
             None => Ok((k, None)),
             // Held to the runner's limits with the case that asked for them (`Case::parse`).
             Some(twin) => Case::parse(twin, &Limits::unbounded())
                 .map(|c| (k, Some(c)))
-                .map_err(|e| format!("the section at n = {k} cannot be run: {e}")),
+                .map_err(|e| format!("{what} at n = {k} cannot be run: {e}")),
         })
-        .collect()
+        .collect::<Result<_, _>>()?;
+    Ok(Rungs { climb, rungs })
 }
 
 /// The error bar from the rungs' results; `run` is the run's own figures as a rung at its own
-/// n (`Summary::rung`); `three_d`: whether the run is 3D (else the section itself).
+/// n (`Summary::rung`); `three_d`: whether the run is 3D (else the section itself). Rungs of
+/// `model` [`Model::ThreeD`] are a 3D ladder: [`ErrorBar::ThreeDLadder`].
 pub fn from_rungs(model: Model, rungs: Vec<Rung>, run: &Rung, three_d: bool) -> ErrorBar {
     let run_n = run.n;
     let f = run.mean_load_n;
+    let climbs_3d = model == Model::ThreeD;
+    if climbs_3d && run_n < THREE_D_LOWEST_N {
+        return ErrorBar::Unavailable {
+            why: three_d_too_coarse(run_n),
+        };
+    }
     if rungs.len() < 3 {
         return ErrorBar::Unavailable {
             why: "fewer than three rungs ran".into(),
         };
     }
+    // Whether the rungs ran in another model than the run: then the run is not one of them,
+    // and the gap between it and its twin at the same n widens the interval.
+    let twin = three_d != climbs_3d;
     let values: Vec<(u32, f64)> = rungs.iter().map(|r| (r.n, r.mean_load_n)).collect();
     let Reading {
         estimate,
@@ -222,32 +284,39 @@ pub fn from_rungs(model: Model, rungs: Vec<Rung>, run: &Rung, three_d: bool) -> 
         extrapolation,
         trusted,
         twin_gap,
-    } = read(&values, f, run_n, three_d);
+    } = read(&values, f, run_n, twin);
     let cost_s: f64 = rungs
         .iter()
-        .filter(|r| three_d || r.n != run_n)
+        .filter(|r| twin || r.n != run_n)
         .map(|r| r.wall_time_s)
         .sum();
-    let covers = format!(
-        "the resolution error of the mean load and the first collapse peak, from the {} \
-         section at n = {}{}; not the model's error against a real tube, or lobes",
-        model.name().replace('_', " "),
-        rungs
-            .iter()
-            .map(|r| r.n.to_string())
-            .collect::<Vec<_>>()
-            .join(", "),
-        match (trusted, extrapolation) {
-            (true, Some(e)) => format!(" extrapolated at order {:.2}", e.order),
-            (_, Some(e)) => format!(
-                " (Richardson not trusted, order {:.2}: the finest rung, with the ladder's \
-                 spread)",
-                e.order
-            ),
-            (_, None) => " (not monotone: the finest rung, with the ladder's spread)".into(),
-        }
-    );
-    ErrorBar::ReducedLadder(Ladder {
+    let ns = rungs
+        .iter()
+        .map(|r| r.n.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let how = match (trusted, extrapolation) {
+        (true, Some(e)) => format!(" extrapolated at order {:.2}", e.order),
+        (_, Some(e)) => format!(
+            " (Richardson not trusted, order {:.2}: the finest rung, with the ladder's spread)",
+            e.order
+        ),
+        (_, None) => " (not monotone: the finest rung, with the ladder's spread)".into(),
+    };
+    let covers = if climbs_3d {
+        format!(
+            "the resolution error of the 3D run's mean load and first collapse peak, from 3D \
+             runs of the same case at n = {ns}{how}; not the spread over trigger.seed (the \
+             lobe count), or the model's error against a real tube"
+        )
+    } else {
+        format!(
+            "the resolution error of the mean load and the first collapse peak, from the {} \
+             section at n = {ns}{how}; not the model's error against a real tube, or lobes",
+            model.name().replace('_', " "),
+        )
+    };
+    let ladder = Ladder {
         model,
         estimate_n: estimate,
         low_n: low,
@@ -261,9 +330,14 @@ pub fn from_rungs(model: Model, rungs: Vec<Rung>, run: &Rung, three_d: bool) -> 
         cost_fraction: cost_s / run.wall_time_s.max(1e-9),
         cost_s,
         covers,
-        first_peak: first_peak(&rungs, run, three_d),
+        first_peak: first_peak(&rungs, run, twin),
         rungs,
-    })
+    };
+    if climbs_3d {
+        ErrorBar::ThreeDLadder(ladder)
+    } else {
+        ErrorBar::ReducedLadder(ladder)
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 use super::rates::{LawKind, RateBasis, Rates};
 use super::verdict::{foreseen, Verdict};
 use crate::solver::model::case::Case;
-use crate::solver::model::ladder::rungs;
+use crate::solver::model::case::CaseSpec;
+use crate::solver::model::ladder::{rungs, three_d_rungs};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -41,7 +42,9 @@ pub struct Estimate {
     pub verdict: Verdict,
     /// When the run will price an error bar (`output.error_bar`, or unasked when it costs at
     /// most [`UNASKED_ERROR_BAR_FRACTION`] of the run): the expected wall time of its ladder's
-    /// rungs, s, on top of `wall_time_s`.
+    /// rungs, s, on top of `wall_time_s`: its section's, or, asked for a 3D case with no
+    /// section ladder, the 3D ladder's (a 3D run whose collapse its section cannot fold is
+    /// priced with the 3D ladder as it runs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_bar_wall_time_s: Option<f64>,
 }
@@ -67,8 +70,11 @@ pub fn estimate_with(case: &Case, threads: u32, rates: &Rates) -> Estimate {
     let mut e = cost(case, threads, rates);
     let ladder_s = ladder_wall_time_s(case, threads, rates);
     let unasked = ladder_s.is_some_and(|s| s <= UNASKED_ERROR_BAR_FRACTION * e.wall_time_s);
-    if case.spec().output.error_bar || unasked {
+    if unasked {
         e.error_bar_wall_time_s = ladder_s;
+    } else if case.spec().output.error_bar {
+        e.error_bar_wall_time_s =
+            ladder_s.or_else(|| three_d_ladder_wall_time_s(case, threads, rates));
     }
     e.reduced = reduced(case).map(|(model, r)| {
         let c = cost(&r, threads, rates);
@@ -96,11 +102,28 @@ pub fn estimate_with(case: &Case, threads: u32, rates: &Rates) -> Estimate {
 /// times (docs/trust.md).
 pub const UNASKED_ERROR_BAR_FRACTION: f64 = 0.25;
 
-/// The expected wall time of the case's error-bar ladder (its rungs that are runs of their
-/// own), s; `None` when the case has no ladder (its shape functions, or a rung the limits
-/// refuse).
+/// The expected wall time of the case's error-bar ladder of its section (its rungs that are
+/// runs of their own), s; `None` when the case has no such ladder (its shape functions, its
+/// section, or a rung the limits refuse).
 pub fn ladder_wall_time_s(case: &Case, threads: u32, rates: &Rates) -> Option<f64> {
-    let rungs = rungs(case.spec(), case.shape()).ok()?;
+    rungs_wall_time_s(rungs(case.spec(), case.shape()).ok()?, threads, rates)
+}
+
+/// The expected wall time of the case's 3D ladder (the case at n − 2 and n − 1), s; `None`
+/// when it has none. Priced only when asked: it costs ((n − 2)/n)⁴ + ((n − 1)/n)⁴ of the run.
+pub fn three_d_ladder_wall_time_s(case: &Case, threads: u32, rates: &Rates) -> Option<f64> {
+    rungs_wall_time_s(
+        three_d_rungs(case.spec(), case.shape()).ok()?,
+        threads,
+        rates,
+    )
+}
+
+fn rungs_wall_time_s(
+    rungs: Vec<(u32, Option<CaseSpec>)>,
+    threads: u32,
+    rates: &Rates,
+) -> Option<f64> {
     rungs
         .into_iter()
         .filter_map(|(_, twin)| twin)
@@ -113,10 +136,17 @@ pub fn ladder_wall_time_s(case: &Case, threads: u32, rates: &Rates) -> Option<f6
 }
 
 /// The error bar's expected cost over the run's own, at the same rates (so independent of
-/// them but for the model and shape): `None` when the case has no ladder.
+/// them but for the model and shape): `None` when the case has no ladder of its section.
 pub fn error_bar_cost_fraction(case: &Case) -> Option<f64> {
     let rates = Rates::assumed();
     let ladder = ladder_wall_time_s(case, 1, &rates)?;
+    Some(ladder / cost(case, 1, &rates).wall_time_s.max(1e-12))
+}
+
+/// The 3D ladder's expected cost over the run's own: `None` when the case has none.
+pub fn three_d_ladder_cost_fraction(case: &Case) -> Option<f64> {
+    let rates = Rates::assumed();
+    let ladder = three_d_ladder_wall_time_s(case, 1, &rates)?;
     Some(ladder / cost(case, 1, &rates).wall_time_s.max(1e-12))
 }
 

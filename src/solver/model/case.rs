@@ -90,30 +90,43 @@ impl Case {
     }
 
     /// The error bar's rungs ([`super::ladder`]) with the run itself, held to `limits`: each
-    /// rung's steps, and the particle-steps of all of them and the run together.
+    /// rung's steps, and the particle-steps of all of them and the run together. A 3D case is
+    /// held to both ladders it may climb (its section's, and its own at n − 2 and n − 1 for a
+    /// collapse the section cannot fold), as its mode is known only once it has run.
     fn ladder_within(&self, limits: &Limits) -> Result<(), String> {
-        let rungs = super::ladder::rungs(&self.spec, self.shape())
-            .map_err(|why| format!("cannot be priced for this case: {why}"))?;
-        let mut work = self.particles as f64 * self.steps as f64;
-        for (n, twin) in rungs {
-            let Some(twin) = twin else { continue };
-            let twin = Case::parse(twin, &Limits::unbounded())
-                .map_err(|e| format!("its section at n = {n} cannot be run: {e}"))?;
-            if twin.steps > limits.max_steps {
+        let section = super::ladder::rungs(&self.spec, self.shape());
+        let three_d = super::ladder::three_d_rungs(&self.spec, self.shape());
+        if let (Err(why), Err(why_3d)) = (&section, &three_d) {
+            let also = match self.spec.discretization.model {
+                Model::ThreeD if why_3d != why => format!("; {why_3d}"),
+                _ => String::new(),
+            };
+            return Err(format!("cannot be priced for this case: {why}{also}"));
+        }
+        let ladders = [(section, "section"), (three_d, "3D run")];
+        for (rungs, what) in ladders {
+            let Ok(rungs) = rungs else { continue };
+            let mut work = self.particles as f64 * self.steps as f64;
+            for (n, twin) in rungs {
+                let Some(twin) = twin else { continue };
+                let twin = Case::parse(twin, &Limits::unbounded())
+                    .map_err(|e| format!("its {what} at n = {n} cannot be run: {e}"))?;
+                if twin.steps > limits.max_steps {
+                    return Err(format!(
+                        "its {what} at n = {n} takes {} time steps, more than this runner's \
+                         limit of {}",
+                        twin.steps, limits.max_steps
+                    ));
+                }
+                work += twin.particles as f64 * twin.steps as f64;
+            }
+            if work > limits.max_particle_steps as f64 {
                 return Err(format!(
-                    "its section at n = {n} takes {} time steps, more than this runner's \
-                     limit of {}",
-                    twin.steps, limits.max_steps
+                    "the run with its error bar's ladder of the {what} comes to {work:.3e} \
+                     particle-steps, more than this runner's limit of {}",
+                    limits.max_particle_steps
                 ));
             }
-            work += twin.particles as f64 * twin.steps as f64;
-        }
-        if work > limits.max_particle_steps as f64 {
-            return Err(format!(
-                "the run with its error bar's ladder comes to {work:.3e} particle-steps, more \
-                 than this runner's limit of {}",
-                limits.max_particle_steps
-            ));
         }
         Ok(())
     }

@@ -1,7 +1,9 @@
 //! The resolutions of a run's error-bar ladder (`analysis::error_bar` prices it): the tube's
 //! section at m, 1.5 m and 2 m particles through the wall, m = max(n, [`LOWEST_RUNG`]), and for
-//! a 3D run its section at its own n too. The model owns the rungs so that a case asking for an
-//! error bar is held, with its rungs, to the runner's limits before it runs.
+//! a 3D run its section at its own n too; or, for a 3D run its section cannot price, the same
+//! 3D case at n − 2 and n − 1 below the run ([`three_d_rungs`]). The model owns the rungs so
+//! that a case asking for an error bar is held, with its rungs, to the runner's limits before
+//! it runs.
 
 use super::spec::{CaseSpec, LoadingMode, Model, SectionShape, ShapeKind};
 
@@ -17,31 +19,11 @@ pub const LOWEST_RUNG: u32 = 8;
 pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseSpec>)>, String> {
     let model = spec.discretization.model;
     let n = spec.discretization.particles_through_thickness;
-    match shape {
-        ShapeKind::Gimp => {}
-        ShapeKind::Linear => {
-            return Err(
-                "linear shape functions (the default for a thin wall in 3D) have no \
-                        converged answer on thin walls to measure the error against yet \
-                        (docs/studies.md §5); run with discretization.shape \"gimp\" for an \
-                        error bar"
-                    .into(),
-            )
-        }
-        ShapeKind::Bspline => {
-            return Err(
-                "B-splines have no error table yet (their convergence is measured in the \
-                        axisymmetric section only: docs/folding.md); run with \
-                        discretization.shape \"gimp\" for an error bar"
-                    .into(),
-            )
-        }
-    }
+    gimp_only(shape)?;
     if spec.loading.mode == LoadingMode::Axial && spec.tube.section != SectionShape::Round {
         return Err(
-            "a rectangular tube crushed axially has no reduced model to climb (the ladder \
-             runs the axisymmetric section, and a rectangle has no axis of symmetry); \
-             compare 3D runs at two n instead"
+            "a rectangular tube crushed axially has no section to climb (the section ladder \
+             runs the axisymmetric section, and a rectangle has no axis of symmetry)"
                 .into(),
         );
     }
@@ -73,10 +55,67 @@ pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseS
             twin.discretization.particles_through_thickness = k;
             twin.discretization.shape = Some(ShapeKind::Gimp);
             twin.trigger.weak_fraction = 0.0;
-            twin.output.final_state = false;
-            twin.output.frames = 0;
-            twin.output.error_bar = false;
+            quiet(&mut twin);
             (k, Some(twin))
         })
         .collect())
+}
+
+/// The coarsest run a 3D ladder prices: its rungs are the run at n − 2 and n − 1.
+pub const THREE_D_LOWEST_N: u32 = 3;
+
+/// Why a 3D run at `n` below [`THREE_D_LOWEST_N`] has no 3D ladder.
+pub fn three_d_too_coarse(n: u32) -> String {
+    format!(
+        "a 3D ladder needs n ≥ {THREE_D_LOWEST_N}: rungs at n − 2 and n − 1 below the run \
+         (this run has n = {n})"
+    )
+}
+
+/// The 3D ladder of a 3D `spec` (uGIMP): the same case at n − 2 and n − 1, and `None` for the
+/// run itself at n; or why it has none (its model, its shape functions, or n below 3).
+pub fn three_d_rungs(
+    spec: &CaseSpec,
+    shape: ShapeKind,
+) -> Result<Vec<(u32, Option<CaseSpec>)>, String> {
+    gimp_only(shape)?;
+    if spec.discretization.model != Model::ThreeD {
+        return Err("a 3D ladder climbs 3D runs: this run is a section".into());
+    }
+    let n = spec.discretization.particles_through_thickness;
+    if n < THREE_D_LOWEST_N {
+        return Err(three_d_too_coarse(n));
+    }
+    let rung = |k: u32| {
+        let mut coarser = spec.clone();
+        coarser.discretization.particles_through_thickness = k;
+        coarser.discretization.shape = Some(ShapeKind::Gimp);
+        quiet(&mut coarser);
+        (k, Some(coarser))
+    };
+    Ok(vec![rung(n - 2), rung(n - 1), (n, None)])
+}
+
+/// A rung reports its summary only: no final state, no frames, no error bar of its own.
+fn quiet(spec: &mut CaseSpec) {
+    spec.output.final_state = false;
+    spec.output.frames = 0;
+    spec.output.error_bar = false;
+}
+
+/// Why shape functions other than uGIMP have no ladder.
+fn gimp_only(shape: ShapeKind) -> Result<(), String> {
+    match shape {
+        ShapeKind::Gimp => Ok(()),
+        ShapeKind::Linear => Err(
+            "linear shape functions (the default for a thin wall in 3D) \
+             have no converged answer on thin walls to measure the error against yet \
+             (docs/studies.md §5); run with discretization.shape \"gimp\" for an error bar"
+                .into(),
+        ),
+        ShapeKind::Bspline => Err("B-splines have no error table yet (their convergence is \
+             measured in the axisymmetric section only: docs/folding.md); run with \
+             discretization.shape \"gimp\" for an error bar"
+            .into()),
+    }
 }

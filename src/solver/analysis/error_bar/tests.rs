@@ -91,6 +91,7 @@ fn the_paper_case_intervals_hold_the_converged_load_at_n_4_6_8_and_10() {
         let c = Case::parse(spec, &Limits::default()).unwrap();
         let points: Vec<(u32, f64)> = ladder(&c, run.mode)
             .unwrap()
+            .rungs
             .iter()
             .map(|(k, _)| (*k, section(*k)))
             .collect();
@@ -119,7 +120,9 @@ const SECTION_20: f64 = 12_499.0;
 #[test]
 fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     let ring = summary(1.0, CollapseMode::Ring);
-    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), ring.mode).unwrap();
+    let three_d = ladder(&case(r#"{"discretization": {"shape": "gimp"}}"#), ring.mode)
+        .unwrap()
+        .rungs;
     let ns: Vec<u32> = three_d.iter().map(|(n, _)| *n).collect();
     assert_eq!(ns, [4, 8, 12, 16]);
     for (n, twin) in &three_d {
@@ -131,26 +134,28 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
     let fine = case(r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 10}}"#);
     let ns: Vec<u32> = ladder(&fine, ring.mode)
         .unwrap()
+        .rungs
         .iter()
         .map(|(n, _)| *n)
         .collect();
     assert_eq!(ns, [10, 15, 20]);
     let section =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 12}}"#);
-    let rungs = ladder(&section, ring.mode).unwrap();
+    let rungs = ladder(&section, ring.mode).unwrap().rungs;
     let ns: Vec<(u32, bool)> = rungs.iter().map(|(n, c)| (*n, c.is_some())).collect();
     assert_eq!(ns, [(12, false), (18, true), (24, true)]);
     let coarse =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 6}}"#);
     let ns: Vec<(u32, bool)> = ladder(&coarse, ring.mode)
         .unwrap()
+        .rungs
         .iter()
         .map(|(n, c)| (*n, c.is_some()))
         .collect();
     assert_eq!(ns, [(8, true), (12, true), (16, true)]);
     let lateral = case(r#"{"loading": {"mode": "lateral"}}"#);
     let flat = summary(1.0, CollapseMode::Flattening);
-    let rungs = ladder(&lateral, flat.mode).unwrap();
+    let rungs = ladder(&lateral, flat.mode).unwrap().rungs;
     assert_eq!(
         rungs[0].1.as_ref().unwrap().spec().discretization.model,
         Model::PlaneStrain
@@ -158,7 +163,7 @@ fn a_ladder_climbs_from_n_or_8_to_twice_that_and_a_3d_run_adds_its_own_n() {
 }
 
 #[test]
-fn linear_shapes_b_splines_lobes_and_too_fine_a_section_have_no_error_bar_and_say_why() {
+fn linear_shapes_b_splines_lobes_below_n_3_and_too_fine_a_section_have_no_error_bar_and_say_why() {
     let ring = summary(1.0, CollapseMode::Ring);
     let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
     assert!(ladder(&linear, ring.mode).unwrap_err().contains("linear"));
@@ -167,8 +172,9 @@ fn linear_shapes_b_splines_lobes_and_too_fine_a_section_have_no_error_bar_and_sa
         .unwrap_err()
         .contains("B-splines have no error table"));
     let diamond = summary(1.0, CollapseMode::Diamond { lobes: 3 });
-    let gimp = case(r#"{"discretization": {"shape": "gimp"}}"#);
-    assert!(ladder(&gimp, diamond.mode).unwrap_err().contains("diamond"));
+    let coarse = case(r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 2}}"#);
+    let why = ladder(&coarse, diamond.mode).unwrap_err();
+    assert!(why.contains("diamond") && why.contains("n ≥ 3"), "{why}");
     let fine =
         case(r#"{"discretization": {"model": "axisymmetric", "particles_through_thickness": 40}}"#);
     assert!(ladder(&fine, ring.mode)
@@ -205,6 +211,7 @@ fn the_paper_case_first_peak_intervals_hold_the_sections_settled_peak_at_n_4_and
         let c = Case::parse(spec, &Limits::default()).unwrap();
         let rungs: Vec<Rung> = ladder(&c, run.mode)
             .unwrap()
+            .rungs
             .iter()
             .map(|(k, _)| Rung {
                 n: *k,
@@ -284,6 +291,7 @@ fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {
     let section = [(4, 5_323.1), (8, 5_452.4), (12, 5_489.1), (16, 5_502.7)];
     let ks: Vec<u32> = ladder(&lateral, run.mode)
         .unwrap()
+        .rungs
         .iter()
         .map(|r| r.0)
         .collect();
@@ -302,4 +310,129 @@ fn the_lateral_interval_at_n_4_holds_the_converged_plane_strain_plateau() {
             "{l:?}"
         );
     }
+}
+
+fn three_d_ladder_of(bar: ErrorBar) -> Ladder {
+    match bar {
+        ErrorBar::ThreeDLadder(l) => l,
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_3d_run_its_section_cannot_fold_climbs_the_same_case_at_n_minus_2_and_n_minus_1() {
+    let diamond = CollapseMode::Diamond { lobes: 3 };
+    let gimp = case(
+        r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 6},
+            "trigger": {"weak_fraction": 0.003, "seed": 7}}"#,
+    );
+    for mode in [
+        diamond,
+        CollapseMode::GlobalBuckling,
+        CollapseMode::TippedOver,
+    ] {
+        let r = ladder(&gimp, mode).unwrap();
+        assert!(
+            matches!(&r.climb, Climb::ThreeD { why_not_section } if why_not_section.contains(mode.kind().replace('_', " ").as_str())),
+            "{:?}",
+            r.climb
+        );
+        let ns: Vec<(u32, bool)> = r.rungs.iter().map(|(n, c)| (*n, c.is_some())).collect();
+        assert_eq!(ns, [(4, true), (5, true), (6, false)]);
+        for (n, rung) in r.rungs.iter().filter_map(|(n, c)| Some((n, c.as_ref()?))) {
+            // The same case, trigger and all, at a coarser n.
+            let s = rung.spec();
+            assert_eq!(s.discretization.model, Model::ThreeD);
+            assert_eq!(s.discretization.particles_through_thickness, *n);
+            assert_eq!(rung.shape(), ShapeKind::Gimp);
+            assert_eq!((s.trigger.weak_fraction, s.trigger.seed), (0.003, 7));
+            assert!(!s.output.error_bar);
+        }
+    }
+    // A ring climbs its section, as before.
+    assert_eq!(
+        ladder(&gimp, CollapseMode::Ring).unwrap().climb,
+        Climb::Section
+    );
+    // A rectangular tube crushed axially has no section, whatever its mode.
+    let square = case(
+        r#"{"tube": {"section": "rectangular", "thickness_mm": 1.5, "side_a_mm": 40,
+                     "corner_radius_mm": 3, "length_mm": 80},
+            "discretization": {"shape": "gimp", "particles_through_thickness": 3}}"#,
+    );
+    let r = ladder(&square, CollapseMode::Symmetric).unwrap();
+    assert!(matches!(r.climb, Climb::ThreeD { .. }));
+    assert_eq!(r.rungs.iter().map(|r| r.0).collect::<Vec<_>>(), [1, 2, 3]);
+}
+
+/// f(n) = 15 000 + 20 000 / n² at n = 4, 5 and 6, the run at n = 6 its own finest rung: the
+/// reading extrapolates to 15 kN at order 2, with the finest rung's way to it and the floor
+/// as the half-width, no twin gap, and the two coarser rungs as its cost.
+#[test]
+fn a_monotone_3d_ladder_extrapolates_and_holds_its_limit() {
+    let f = |n: f64| 15_000.0 + 20_000.0 / (n * n);
+    let points: Vec<(u32, f64)> = [4, 5, 6].iter().map(|&n| (n, f(n as f64))).collect();
+    let run = summary(f(6.0), CollapseMode::Diamond { lobes: 3 });
+    let l = three_d_ladder_of(from_rungs(
+        Model::ThreeD,
+        rungs(&points),
+        &run.rung(6),
+        true,
+    ));
+    assert_eq!(l.model, Model::ThreeD);
+    assert!(l.extrapolated);
+    assert!((l.estimate_n - 15_000.0).abs() < 1e-6, "{}", l.estimate_n);
+    assert!((l.order.unwrap() - 2.0).abs() < 1e-6);
+    let half = (f(6.0) - 15_000.0) + MODEL_GAP_FLOOR * 15_000.0;
+    assert!((l.high_n - l.low_n - 2.0 * half).abs() < 1e-6, "{l:?}");
+    assert!(l.low_n <= 15_000.0 && f(6.0) <= l.high_n, "{l:?}");
+    assert_eq!(l.twin_gap, 0.0);
+    // The run is its own rung: only n = 4 and 5 were run for the error bar.
+    assert_eq!((l.cost_s, l.cost_fraction), (2.0, 0.02));
+    assert!(l.covers.contains("3D runs") && l.covers.contains("trigger.seed"));
+    let json = serde_json::to_value(ErrorBar::ThreeDLadder(l)).unwrap();
+    assert_eq!(json["basis"], "three_d_ladder");
+    assert_eq!(json["model"], "3d");
+}
+
+/// Rungs that wobble (up, then down) have no order: the interval is the run's value with the
+/// ladder's whole spread and the floor, and holds every rung; the first peak likewise.
+#[test]
+fn a_wobbling_3d_ladder_is_a_noise_band_around_the_run_holding_every_rung() {
+    let points = [(4, 15_537.0), (5, 15_700.0), (6, 15_574.0)];
+    let mut ladder_rungs = rungs(&points);
+    for (r, p) in ladder_rungs.iter_mut().zip([20_100.0, 19_800.0, 19_950.0]) {
+        r.first_peak_load_n = Some(p);
+    }
+    let mut run = summary(15_574.0, CollapseMode::GlobalBuckling);
+    run.measures.first_peak_load_n = Some(19_950.0);
+    let l = three_d_ladder_of(from_rungs(Model::ThreeD, ladder_rungs, &run.rung(6), true));
+    assert!(!l.extrapolated && l.order.is_none(), "{l:?}");
+    assert_eq!(l.estimate_n, 15_574.0);
+    let half = (15_700.0 - 15_574.0) + MODEL_GAP_FLOOR * 15_574.0;
+    assert!((l.high_n - 15_574.0 - half).abs() < 1e-9, "{l:?}");
+    for (_, v) in points {
+        assert!(l.low_n <= v && v <= l.high_n, "{v}: {l:?}");
+    }
+    assert!(l.covers.contains("not monotone"), "{}", l.covers);
+    let p = l.first_peak.unwrap();
+    assert_eq!((p.estimate_n, p.twin_gap), (19_950.0, 0.0));
+    for v in [20_100.0, 19_800.0, 19_950.0] {
+        assert!(p.low_n <= v && v <= p.high_n, "{v}: {p:?}");
+    }
+}
+
+#[test]
+fn a_3d_run_below_n_3_has_no_3d_ladder_and_says_why() {
+    let run = summary(15_000.0, CollapseMode::Diamond { lobes: 3 });
+    let bar = from_rungs(
+        Model::ThreeD,
+        rungs(&[(1, 16_000.0), (2, 15_500.0)]),
+        &run.rung(2),
+        true,
+    );
+    let ErrorBar::Unavailable { why } = bar else {
+        panic!("{bar:?}")
+    };
+    assert!(why.contains("n ≥ 3") && why.contains("n − 2"), "{why}");
 }
