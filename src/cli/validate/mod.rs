@@ -17,7 +17,7 @@ use crate::solver::analysis::error_bar::Rung;
 use crate::solver::{estimate, Case, LadderObserver, Limits, Observer, Progress, Runner, Snapshot};
 use anyhow::{bail, Context};
 use cache::{Cache, Entry};
-use report::{Drawn, Report, SceneRun};
+use report::{Drawn, Figures, Report, SceneRun};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -247,6 +247,24 @@ fn draw(figures: &[suite::Figure], runs: &BTreeMap<String, Entry>) -> Vec<Drawn>
     out
 }
 
+/// What a scene's run gave, as the report prints it.
+fn figures(e: &Entry) -> Figures {
+    let s = &e.summary;
+    Figures {
+        particles: s.cost.particles,
+        steps: s.cost.steps,
+        run_s: s.cost.wall_time_s,
+        wall_s: e.wall_s,
+        mean_load_n: s.mean_load_n,
+        first_peak_load_n: s.measures.first_peak_load_n,
+        mode: judge::mode_text(&s.mode),
+        folds: s.folds,
+        energy_balance_error: s.energy_balance_error,
+        error_bar: judge::error_bar_text(e),
+        verdict: judge::verdict_text(e),
+    }
+}
+
 /// The report's files under `out`.
 fn write(out: &Path, r: &Report) -> anyhow::Result<()> {
     let img = out.join("img").join("validation");
@@ -338,49 +356,17 @@ pub fn validate(args: ValidateArgs) -> anyhow::Result<()> {
                 (result, false)
             }
         };
-        let case_command = format!("crush validate --case {}", scene.id);
-        let run = match &entry {
-            Ok(e) => SceneRun {
-                id: scene.id.clone(),
-                group: scene.group,
-                title: scene.title.clone(),
-                case_command,
-                cached,
-                particles: e.summary.cost.particles,
-                steps: e.summary.cost.steps,
-                run_s: e.summary.cost.wall_time_s,
-                wall_s: e.wall_s,
-                mean_load_n: e.summary.mean_load_n,
-                first_peak_load_n: e.summary.measures.first_peak_load_n,
-                mode: judge::mode_text(&e.summary.mode),
-                folds: e.summary.folds,
-                energy_balance_error: e.summary.energy_balance_error,
-                error_bar: judge::error_bar_text(e),
-                verdict: judge::verdict_text(e),
-                stopped: None,
-            },
-            Err(why) => {
-                sb.bar.println(format!("{}: stopped: {why}", scene.id));
-                SceneRun {
-                    id: scene.id.clone(),
-                    group: scene.group,
-                    title: scene.title.clone(),
-                    case_command,
-                    cached,
-                    particles: 0,
-                    steps: 0,
-                    run_s: 0.0,
-                    wall_s: 0.0,
-                    mean_load_n: 0.0,
-                    first_peak_load_n: None,
-                    mode: "–".into(),
-                    folds: 0,
-                    energy_balance_error: 0.0,
-                    error_bar: "–".into(),
-                    verdict: "not_trusted".into(),
-                    stopped: Some(why.clone()),
-                }
-            }
+        if let Err(why) = &entry {
+            sb.bar.println(format!("{}: stopped: {why}", scene.id));
+        }
+        let run = SceneRun {
+            id: scene.id.clone(),
+            group: scene.group,
+            title: scene.title.clone(),
+            case_command: format!("crush validate --case {}", scene.id),
+            cached,
+            figures: entry.as_ref().ok().map(figures),
+            stopped: entry.as_ref().err().cloned(),
         };
         scene_runs.push(run);
         if let Ok(e) = entry {
@@ -419,7 +405,10 @@ pub fn validate(args: ValidateArgs) -> anyhow::Result<()> {
         machine: machine(),
         threads,
         rows,
-        runs_wall_s: scene_runs.iter().map(|s| s.wall_s).sum(),
+        runs_wall_s: scene_runs
+            .iter()
+            .filter_map(|s| s.figures.as_ref().map(|f| f.wall_s))
+            .sum(),
         scenes: scene_runs,
         figures,
         leaves_out: suite.leaves_out.clone(),

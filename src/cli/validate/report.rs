@@ -5,7 +5,7 @@
 use super::judge::{Row, Status};
 use super::suite::{Group, Profile};
 
-/// One scene as run (or read back from the cache).
+/// One scene as run (or read back from the cache), or why it stopped.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SceneRun {
     pub id: String,
@@ -14,6 +14,16 @@ pub struct SceneRun {
     /// The command that prints its case, for `crush run`.
     pub case_command: String,
     pub cached: bool,
+    /// What the run gave; none where it stopped.
+    #[serde(flatten)]
+    pub figures: Option<Figures>,
+    /// Why it has no result, where it stopped.
+    pub stopped: Option<String>,
+}
+
+/// What a scene's run gave.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Figures {
     pub particles: u64,
     pub steps: u64,
     /// Wall time of the crush itself, s.
@@ -27,8 +37,6 @@ pub struct SceneRun {
     pub energy_balance_error: f64,
     pub error_bar: String,
     pub verdict: String,
-    /// Why it has no result, where it stopped.
-    pub stopped: Option<String>,
 }
 
 /// A drawn figure: SVG text, or PNG bytes for a final shape.
@@ -256,23 +264,29 @@ pub fn blocks(r: &Report) -> Vec<Block> {
         .scenes
         .iter()
         .map(|s| {
-            let stopped = s.stopped.clone();
-            vec![
-                format!("`{}`", s.id),
-                s.title.clone(),
-                s.particles.to_string(),
-                s.steps.to_string(),
-                format!("{:.1}", s.run_s),
-                format!("{:.1}{}", s.wall_s, if s.cached { " (cached)" } else { "" }),
-                stopped.unwrap_or_else(|| format!("{:.3}", s.mean_load_n / 1e3)),
-                s.first_peak_load_n
-                    .map_or("–".into(), |p| format!("{:.3}", p / 1e3)),
-                s.mode.clone(),
-                s.folds.to_string(),
-                format!("{:.2} %", 100.0 * s.energy_balance_error),
-                s.error_bar.clone(),
-                s.verdict.clone(),
-            ]
+            let mut row = vec![format!("`{}`", s.id), s.title.clone()];
+            match (&s.figures, &s.stopped) {
+                (Some(f), _) => row.extend([
+                    f.particles.to_string(),
+                    f.steps.to_string(),
+                    format!("{:.1}", f.run_s),
+                    format!("{:.1}{}", f.wall_s, if s.cached { " (cached)" } else { "" }),
+                    format!("{:.3}", f.mean_load_n / 1e3),
+                    f.first_peak_load_n
+                        .map_or("–".into(), |p| format!("{:.3}", p / 1e3)),
+                    f.mode.clone(),
+                    f.folds.to_string(),
+                    format!("{:.2} %", 100.0 * f.energy_balance_error),
+                    f.error_bar.clone(),
+                    f.verdict.clone(),
+                ]),
+                (None, why) => {
+                    let why = why.clone().unwrap_or_default();
+                    row.push(format!("stopped: {why}"));
+                    row.resize(head.len(), "–".into());
+                }
+            }
+            row
         })
         .collect();
     out.push(Block::Table(
@@ -321,17 +335,19 @@ mod tests {
                 title: "t".into(),
                 case_command: String::new(),
                 cached: false,
-                particles: 1,
-                steps: 1,
-                run_s: 1.0,
-                wall_s: 1.0,
-                mean_load_n: 1e3,
-                first_peak_load_n: None,
-                mode: "ring".into(),
-                folds: 1,
-                energy_balance_error: 0.0,
-                error_bar: String::new(),
-                verdict: "trusted".into(),
+                figures: stopped.is_none().then(|| Figures {
+                    particles: 1,
+                    steps: 1,
+                    run_s: 1.0,
+                    wall_s: 1.0,
+                    mean_load_n: 1e3,
+                    first_peak_load_n: None,
+                    mode: "ring".into(),
+                    folds: 1,
+                    energy_balance_error: 0.0,
+                    error_bar: String::new(),
+                    verdict: "trusted".into(),
+                }),
                 stopped,
             }],
             figures: Vec::new(),
