@@ -12,6 +12,7 @@ use super::output::{
 use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::series::{RunObserver, SeriesFiles};
+use crate::solver::analysis::error_bar::{self, Climb};
 use crate::solver::{cores, estimate, Case, Limits, Runner, SolveError};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
@@ -130,7 +131,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let history_path = out_dir.join("history.csv");
     let result = result.and_then(|mut output| {
         if args.error_bar {
-            eprintln!("pricing the mean load's error bar (its section at three resolutions)");
+            let rungs = match error_bar::ladder(&case, output.summary.mode) {
+                Ok(error_bar::Rungs {
+                    climb: Climb::ThreeD { .. },
+                    rungs,
+                }) => {
+                    let n: Vec<String> = rungs.iter().map(|(n, _)| n.to_string()).collect();
+                    format!("this case in 3D at n = {}", n.join(", "))
+                }
+                _ => "its section at three resolutions".into(),
+            };
+            eprintln!("pricing the mean load's error bar ({rungs})");
             runner.add_error_bar(&case, &mut output, &mut (), &cancel)?;
         } else {
             runner.add_error_bar_if_asked(&case, &mut output, &mut (), &cancel)?;

@@ -97,6 +97,16 @@ pub fn error_bar_text(e: &Entry) -> String {
     }
 }
 
+/// The mean load's error bar as an interval, kN: where a ladder gave one.
+fn interval_kn(e: &Entry) -> Option<(f64, f64)> {
+    match &e.summary.error_bar {
+        Some(ErrorBar::ReducedLadder(l) | ErrorBar::ThreeDLadder(l)) => {
+            Some((l.low_n / 1e3, l.high_n / 1e3))
+        }
+        _ => None,
+    }
+}
+
 /// The quantity of a run, as a number (none for a mode, or a first peak the load never gave).
 fn value(q: Quantity, scene: &Scene, e: Option<&Entry>) -> Option<f64> {
     if q == Quantity::Particles {
@@ -127,18 +137,22 @@ pub fn judge(scenes: &[Scene], checks: &[Check], runs: &BTreeMap<String, Entry>)
     checks
         .iter()
         .map(|c| {
-            let scene = scenes
-                .iter()
-                .find(|s| s.id == c.scene)
-                .expect("suite checked");
-            judge_one(c, scene, runs)
+            let scene = |id: &str| scenes.iter().find(|s| s.id == id).expect("suite checked");
+            judge_one(c, &scene, runs)
         })
         .collect()
 }
 
-fn judge_one(c: &Check, scene: &Scene, runs: &BTreeMap<String, Entry>) -> Row {
+/// Check `c` read off `runs`; `scene` finds a scene by id (the check's own, or the one its
+/// reference names).
+fn judge_one<'a>(
+    c: &Check,
+    scene: &dyn Fn(&str) -> &'a Scene,
+    runs: &BTreeMap<String, Entry>,
+) -> Row {
+    let own = scene(&c.scene);
     let entry = runs.get(&c.scene);
-    let ours = value(c.quantity, scene, entry);
+    let ours = value(c.quantity, own, entry);
     let mode = entry.map(|e| e.summary.mode);
     let ours_text = match (c.quantity, ours, mode) {
         (Quantity::Mode, _, Some(m)) => mode_text(&m),
@@ -162,7 +176,7 @@ fn judge_one(c: &Check, scene: &Scene, runs: &BTreeMap<String, Entry>) -> Row {
             },
         ),
         RefValue::Scene(id) => {
-            let x = runs.get(id).and_then(|e| value(c.quantity, scene, Some(e)));
+            let x = value(c.quantity, scene(id), runs.get(id));
             (
                 x,
                 x.map_or("–".into(), |x| {
@@ -191,17 +205,22 @@ fn judge_one(c: &Check, scene: &Scene, runs: &BTreeMap<String, Entry>) -> Row {
             (RefValue::Mode { kind, .. }, Some(m)) if m.kind() == kind => Status::InBand,
             _ => Status::OutOfBand,
         },
+        Band::HoldsReference => match (entry.and_then(interval_kn), reference) {
+            (Some((low, high)), Some(x)) if (low..=high).contains(&x) => Status::InBand,
+            _ => Status::OutOfBand,
+        },
     };
     let band = match c.band {
         Band::Ratio { low, high } if low == high => format!("= {low}"),
         Band::Ratio { low, high } => format!("{low:.2}–{high:.2}"),
         Band::AtMost(x) => format!("≤ {}", number(c.quantity, x)),
         Band::SameMode => "same mode".into(),
+        Band::HoldsReference => "inside ours' error bar".into(),
         Band::Shown => "–".into(),
     };
     Row {
         scene: c.scene.clone(),
-        group: scene.group,
+        group: own.group,
         figure: c.figure.clone(),
         quantity: c.quantity,
         ours,
@@ -237,7 +256,8 @@ mod tests {
     }
 
     #[test]
-    fn a_ratio_band_judges_ours_over_the_reference_and_a_missing_run_is_not_a_pass() {
+    fn a_ratio_band_judges_ours_over_the_reference_a_missing_run_is_not_a_pass_and_an_error_bar_holds_another_scene_s_run(
+    ) {
         let scene = Scene {
             id: "s".into(),
             group: Group::Paper,
@@ -264,12 +284,45 @@ mod tests {
             low: 0.9,
             high: 1.1,
         };
-        let inside = judge_one(&check(band, ours / 1.05), &scene, &runs);
+        let find = |_: &str| &scene;
+        let inside = judge_one(&check(band, ours / 1.05), &find, &runs);
         assert_eq!(inside.status, Status::InBand);
         assert!((inside.ratio.unwrap() - 1.05).abs() < 1e-12);
-        let outside = judge_one(&check(band, ours / 1.2), &scene, &runs);
+        let outside = judge_one(&check(band, ours / 1.2), &find, &runs);
         assert_eq!(outside.status, Status::OutOfBand);
-        let none = judge_one(&check(band, ours), &scene, &BTreeMap::new());
+        let none = judge_one(&check(band, ours), &find, &BTreeMap::new());
         assert_eq!(none.status, Status::Missing);
+
+        // Held to another scene's run: its number is that scene's, and the band asks that it
+        // lie inside ours' error bar.
+        let ladder = |low_kn: f64, high_kn: f64| {
+            let bar = json!({"basis": "three_d_ladder", "model": "3d", "rungs": [],
+                "estimate_n": 1e3 * ours, "low_n": 1e3 * low_kn, "high_n": 1e3 * high_kn,
+                "error": 0.0, "error_low": 0.0, "error_high": 0.0, "order": null,
+                "extrapolated": false, "twin_gap": 0.0, "cost_s": 0.0, "cost_fraction": 0.0,
+                "covers": ""});
+            serde_json::from_value::<ErrorBar>(bar).unwrap()
+        };
+        let mut finer = runs["s"].clone();
+        finer.summary.mean_load_n *= 1.1;
+        runs.insert("finer".to_string(), finer);
+        let held = Check {
+            reference: RefValue::Scene("finer".into()),
+            ..check(Band::HoldsReference, 0.0)
+        };
+        let mut judged = |low: f64, high: f64| {
+            runs.get_mut("s").unwrap().summary.error_bar = Some(ladder(low, high));
+            judge_one(&held, &find, &runs)
+        };
+        let holds = judged(ours, 1.2 * ours);
+        assert_eq!(holds.reference, Some(1.1 * ours), "the other scene's mean");
+        assert_eq!(holds.status, Status::InBand);
+        assert_eq!(judged(0.9 * ours, 1.05 * ours).status, Status::OutOfBand);
+        runs.get_mut("s").unwrap().summary.error_bar = None;
+        assert_eq!(
+            judge_one(&held, &find, &runs).status,
+            Status::OutOfBand,
+            "no error bar holds nothing"
+        );
     }
 }

@@ -43,6 +43,8 @@ pub enum Group {
     Paper,
     /// Tubes crushed in testing machines, from the literature.
     Measured,
+    /// A thin wall's 3D convergence: its coarse runs' error bars held to its finest run.
+    ThinWalls,
 }
 
 /// What a reference is.
@@ -113,6 +115,8 @@ pub enum Band {
     AtMost(f64),
     /// The same mode kind (lobes shown, not judged).
     SameMode,
+    /// The reference lies inside ours' error bar (the interval the converged value lies in).
+    HoldsReference,
     /// Shown beside ours, not judged.
     Shown,
 }
@@ -430,6 +434,7 @@ pub fn suite(profile: Profile) -> Suite {
         },
     };
     paper(&mut b, profile);
+    thin_walls(&mut b, profile);
     let tubes = measured::tubes();
     for (i, tube) in tubes.iter().enumerate() {
         if profile != Profile::Ci || i == 0 {
@@ -794,6 +799,86 @@ fn paper(b: &mut Builder, profile: Profile) {
             "the Euler tube on the paper's μ 0.02, where it tips over".into(),
         ]);
     }
+}
+
+/// The d/t 14 PVC tube of the 3D convergence study (docs/studies.md §9): t 3.2, d 44.8,
+/// l 125.4, 60 mm at 10 m/s on a platen's μ 0.3 with the 0.3 % trigger, uGIMP.
+fn dt14(n: u32, error_bar: bool) -> Value {
+    json!({
+        "label": format!("PVC t 3.2 d 44.8 (d/t 14), n {n}"),
+        "tube": {"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4},
+        "loading": {"mode": "axial", "plate_speed_m_s": 10.0, "crush_distance_mm": 60.0},
+        "contact": {"friction": 0.3},
+        "discretization": {"particles_through_thickness": n, "shape": "gimp"},
+        "trigger": {"weak_fraction": 0.003, "strength_ratio": 0.01, "seed": 1},
+        "output": {"final_state": true, "error_bar": error_bar},
+    })
+}
+
+/// A thin wall in 3D, where no section stands in: the d/t 14 tube at n 3 and 4, each with
+/// its 3D ladder's error bar, held to the same tube at n 6; and n 4 beside n 6. Full profile
+/// only (about 45 minutes on 2 cores).
+fn thin_walls(b: &mut Builder, profile: Profile) {
+    if profile != Profile::Full {
+        if profile == Profile::Quick {
+            b.suite.leaves_out.push(
+                "the d/t 14 tube's 3D convergence (n 3 and 4 with their 3D error bars, held to \
+                 n 6): about 45 minutes on 2 cores"
+                    .into(),
+            );
+        }
+        return;
+    }
+    let g = Group::ThinWalls;
+    let finest = "dt14-n6";
+    for n in [3, 4, 6] {
+        b.scene(
+            &format!("dt14-n{n}"),
+            g,
+            &format!("PVC t 3.2 d 44.8 (d/t 14), 0.3 % trigger, μ 0.3, uGIMP, n {n}, 60 mm"),
+            dt14(n, n < 6),
+        );
+    }
+    let source = "crush at n 6, the finest run of docs/studies.md §9";
+    for n in [3, 4] {
+        b.check(
+            &format!("dt14-n{n}"),
+            "mean load",
+            Quantity::MeanLoadKn,
+            RefValue::Scene(finest.into()),
+            Kind::Crush,
+            source,
+            Band::HoldsReference,
+            "what an error bar claims: the interval of the 3D ladder (this case at n − 2, \
+             n − 1 and n) holds the finer run's mean",
+        );
+    }
+    for (quantity, figure) in [
+        (Quantity::MeanLoadKn, "mean load"),
+        (Quantity::FirstPeakKn, "first peak"),
+    ] {
+        b.check(
+            "dt14-n4",
+            figure,
+            quantity,
+            RefValue::Scene(finest.into()),
+            Kind::Crush,
+            source,
+            Band::Ratio {
+                low: 0.95,
+                high: 1.05,
+            },
+            "±5 %: settled at n 4, as the study found (the planner's n for a 5 % answer on \
+             this wall)",
+        );
+    }
+    b.figure(
+        "dt14",
+        g,
+        "The d/t 14 tube in 3D at n 3, 4 and 6: load against plate travel",
+        &["dt14-n3", "dt14-n4", finest],
+        Plot::LoadCurves,
+    );
 }
 
 /// One measured tube: its scene and the checks against the test and the theories beside it.

@@ -1,6 +1,6 @@
 //! The block layout the grid and its binning share: how many cells a block edge holds, the
 //! "no block" marker, and how a block's 27 neighbours are numbered. Lengths are in cells, not
-//! mm. Imports nothing of the grid: [`super`], [`super::bin`] and [`super::sweep`] import it.
+//! mm. Imports nothing of the grid: [`super`], [`super::bin`] and [`super::slabs`] import it.
 
 /// Cells (and owned nodes) per block edge.
 pub const BLOCK: i32 = 4;

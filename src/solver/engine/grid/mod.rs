@@ -9,7 +9,7 @@
 //! the whole stencil of every particle whose cell lies in the block (blocks that only receive
 //! spilled stencils have none: [`bin::Bins::occupied`]); [`Grid::reduce`] sums the padded
 //! buffers into the owned nodes in a fixed order, so results are independent of the thread
-//! count. The scatter goes slab by slab ([`sweep`]), so the padded buffers of three slabs of
+//! count. The scatter goes slab by slab ([`slabs`]), so the padded buffers of three slabs of
 //! blocks are alive at a time. Grid→particle reads copies of the owned nodes around a block
 //! ([`Grid::halo`]) that the gather keeps in working memory.
 //!
@@ -18,7 +18,7 @@
 
 pub mod bin;
 pub mod blocks;
-pub mod sweep;
+pub mod slabs;
 
 pub use blocks::{neighbor_index, neighbor_offset, BLOCK, NONE, OWNED};
 
@@ -154,8 +154,8 @@ impl Gathered for Velocity {
     const LO: bool = true;
 }
 
-/// The ring of padded buffers of the sweep's slabs ([`Grid::PADDED_LEN`] nodes each, a block's
-/// at [`sweep::Sweep::buffer`]), as two arrays: the `lo` and the `hi` half of each [`Node`].
+/// The ring of padded buffers of the slabs ([`Grid::PADDED_LEN`] nodes each, a block's
+/// at [`slabs::Slabs::buffer`]), as two arrays: the `lo` and the `hi` half of each [`Node`].
 /// Two arrays and not one of nodes, because only the [`Full`] scatter and its reduce need both
 /// halves: the [`Remap`] scatter and its reduce stream half the bytes.
 #[derive(Debug, Default)]
@@ -172,7 +172,7 @@ pub struct Grid<S: Stencil> {
     /// The active blocks and each particle's place in them, rebuilt by [`Grid::bin`].
     pub bins: bin::Bins,
     /// The scatter's order: slab by slab, and each block's buffer in the ring.
-    pub sweep: sweep::Sweep,
+    pub slabs: slabs::Slabs,
     pub padded: Padded,
     pub owned: Vec<Node>,
     /// Which padded node is which owned node, the same for every block.
@@ -190,7 +190,7 @@ impl<S: Stencil> Grid<S> {
             cell,
             inv_cell: 1.0 / cell,
             bins: bin::Bins::default(),
-            sweep: sweep::Sweep::default(),
+            slabs: slabs::Slabs::default(),
             padded: Padded::default(),
             owned: Vec::new(),
             links: Links::new::<S>(),
@@ -235,32 +235,32 @@ impl<S: Stencil> Grid<S> {
     /// node buffers for them. `lp` is the particle half-size in grid units.
     pub fn bin(&mut self, x: &[Vector3<Real>], lp: Real) {
         self.bins.rebuild::<S>(x, self.inv_cell, lp);
-        self.sweep.build(&self.bins);
-        let buffers = self.sweep.ring_len() * Self::PADDED_LEN;
+        self.slabs.build(&self.bins);
+        let buffers = self.slabs.ring_len() * Self::PADDED_LEN;
         let zero = f64x4::splat(0.0);
         self.padded.lo.resize(buffers, zero);
         self.padded.hi.resize(buffers, zero);
         self.owned.resize(self.len() * OWNED, Node::default());
     }
 
-    /// Sums the padded buffers into the owned nodes of slab `i` of the sweep: what transfer
+    /// Sums the padded buffers into the owned nodes of slab `i`: what transfer
     /// `T` scattered. Each owned node adds its padded copies in the order of the neighbours
     /// that hold them (box by box, [`Links::received`]), whatever the thread count. Neighbours
     /// without particles have no buffer and are skipped: their copies would be zeros, and
     /// adding +0 to a sum begun at +0 changes no bit. The slabs next to `i` must have scattered.
     pub fn reduce<T: Transfer>(&mut self, i: usize) {
         let (padded, neighbors, links) = (&self.padded, &self.bins.neighbors, &self.links);
-        let sweep = &self.sweep;
+        let slabs = &self.slabs;
         self.owned
             .par_chunks_mut(OWNED)
             .enumerate()
-            .filter(|(b, _)| sweep.slab_of(*b) == i)
+            .filter(|(b, _)| slabs.slab_of(*b) == i)
             .for_each(|(b, own)| {
                 own.iter_mut().for_each(Node::clear::<T>);
                 for &(n, [x, y, z]) in &links.received {
                     let s = match neighbors[b][n as usize] {
                         NONE => continue,
-                        nb => sweep.buffer(nb as usize),
+                        nb => slabs.buffer(nb as usize),
                     };
                     if s == NONE {
                         continue;
@@ -321,7 +321,7 @@ impl<S: Stencil> Grid<S> {
         (self.padded.lo.capacity() + self.padded.hi.capacity()) * std::mem::size_of::<f64x4>()
             + self.owned.capacity() * std::mem::size_of::<Node>()
             + self.bins.bytes()
-            + self.sweep.bytes()
+            + self.slabs.bytes()
     }
 }
 
@@ -401,7 +401,7 @@ fn overlap(e: i32, lo: i32, pad: usize) -> Option<(usize, usize, usize)> {
 mod tests {
     use super::*;
     use crate::solver::engine::shape::{Gimp, Linear};
-    use sweep::Pass;
+    use slabs::Pass;
 
     /// Scatter mass 1 per particle with partition-of-unity weights into padded buffers, reduce:
     /// the owned nodes must hold the total mass exactly once, whatever block boundaries cut it.
@@ -420,9 +420,9 @@ mod tests {
         let lp = 0.25;
         g.bin(&x, lp);
         let (len, pad) = (Grid::<S>::PADDED_LEN, S::PAD);
-        let slabs = g.sweep.slabs();
-        assert!(slabs > 3, "the sweep reuses the ring");
-        for pass in sweep::passes(slabs) {
+        let count = g.slabs.count();
+        assert!(count > 3, "the slabs reuse the ring");
+        for pass in slabs::passes(count) {
             let i = match pass {
                 Pass::Reduce(i) => {
                     g.reduce::<Full>(i);
@@ -430,10 +430,10 @@ mod tests {
                 }
                 Pass::Scatter(i) => i,
             };
-            for (k, &b) in g.sweep.occupied_of(i).to_vec().iter().enumerate() {
+            for (k, &b) in g.slabs.occupied_of(i).to_vec().iter().enumerate() {
                 let b = b as usize;
-                let s = g.sweep.ring_of(i).0 + k;
-                assert_eq!(g.sweep.buffer(b) as usize, s);
+                let s = g.slabs.ring_of(i).0 + k;
+                assert_eq!(g.slabs.buffer(b) as usize, s);
                 let o = g.padded_origin(b);
                 let mine: Vec<u32> = g.bins.particles_of(b).to_vec();
                 let buf = &mut g.padded.lo[s * len..(s + 1) * len];

@@ -2,7 +2,7 @@
 //! change for FLIP; velocity and its gradient for the kinematics). Units: mm, ms, g, N.
 
 use super::Simulation;
-use crate::solver::engine::grid::sweep::{self, Pass};
+use crate::solver::engine::grid::slabs::{self, Pass};
 use crate::solver::engine::grid::{Gathered, Grid, Transfer, Velocity, NONE};
 use crate::solver::engine::kernel::Clock;
 use crate::solver::engine::shape::{Axis, Gimp, Linear, Stencil};
@@ -18,11 +18,11 @@ use wide::f64x4;
 pub const CHUNK: usize = 1024;
 
 impl<S: Stencil> Simulation<S> {
-    /// Particle → grid for transfer `T`, slab by slab of the grid's sweep: each slab's blocks
+    /// Particle → grid for transfer `T`, slab by slab ([`Grid::slabs`]): each slab's blocks
     /// onto their padded buffers (timed as p2g), then the owned nodes of the slab before it
     /// reduced (timed with the grid phase).
     pub(super) fn scatter_passes<T: Transfer>(&mut self, lp: Real, clock: &mut Clock) {
-        for pass in sweep::passes(self.grid.sweep.slabs()) {
+        for pass in slabs::passes(self.grid.slabs.count()) {
             match pass {
                 Pass::Scatter(i) => {
                     self.p2g::<T>(i, lp);
@@ -45,14 +45,14 @@ impl<S: Stencil> Simulation<S> {
         let tolerance = CONTACT_TOLERANCE * half;
         let g = &self.grid;
         let inv = g.inv_cell;
-        let (first, count) = g.sweep.ring_of(i);
+        let (first, count) = g.slabs.ring_of(i);
         let ring = first * len..(first + count) * len;
         (
             padded.lo[ring.clone()].par_chunks_mut(len),
             padded.hi[ring].par_chunks_mut(len),
         )
             .into_par_iter()
-            .zip(g.sweep.occupied_of(i))
+            .zip(g.slabs.occupied_of(i))
             .for_each(|((lo, hi), &b)| {
                 let b = b as usize;
                 // A `Remap` scatter zeroes the mass lane too: `Grid::reduce` then adds only

@@ -1,13 +1,13 @@
 //! The order of a scatter: slab by slab along the axis with the most block layers, so that
 //! padded buffers exist for three slabs at a time, not for every block that holds particles.
 //!
-//! A slab is the layer of blocks at one coordinate of the sweep axis. Slab i's blocks scatter
+//! A slab is the layer of blocks at one coordinate of the slab axis. Slab i's blocks scatter
 //! into a third of a ring of padded buffers, the one slab i − 3 used; once slab i has scattered,
 //! the owned nodes of slab i − 1 are reduced, which reads the buffers of slabs i − 2 to i: the
 //! only ones a block's neighbours can be in. The buffers a reduce reads were written one or two
 //! slabs before, and the ring is a fraction of the buffers of all blocks (a sixth for the
 //! paper's tube at n = 6, whose 432 blocks with particles lie in 18 layers along its axis).
-//! Each owned node still adds its copies in neighbour order, so the order of the sweep changes
+//! Each owned node still adds its copies in neighbour order, so the order of the slabs changes
 //! no bit.
 
 use super::bin::Bins;
@@ -16,7 +16,7 @@ use super::blocks::NONE;
 /// Slabs of padded buffers alive at once: a reduce reads three neighbouring slabs.
 pub const RING: usize = 3;
 
-/// One pass of a scatter's sweep.
+/// One pass of a scatter over the slabs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pass {
     /// Slab i's blocks that hold particles scatter into their padded buffers.
@@ -25,7 +25,7 @@ pub enum Pass {
     Reduce(usize),
 }
 
-/// The passes of a sweep over `slabs` slabs, in order: slab i scatters, then slab i − 1 (whose
+/// The passes of a scatter over `slabs` slabs, in order: slab i scatters, then slab i − 1 (whose
 /// neighbours have all scattered now) is reduced; the last slab is reduced at the end.
 pub fn passes(slabs: usize) -> impl Iterator<Item = Pass> {
     (0..slabs)
@@ -35,7 +35,7 @@ pub fn passes(slabs: usize) -> impl Iterator<Item = Pass> {
 
 /// The slabs of the current binning, and each block's buffer in the ring.
 #[derive(Debug, Default)]
-pub struct Sweep {
+pub struct Slabs {
     /// Per active block: its slab.
     slab_of: Vec<u32>,
     /// The blocks that hold particles, slab by slab (block order within a slab): slab i's are
@@ -51,7 +51,7 @@ pub struct Sweep {
     cursor: Vec<u32>,
 }
 
-impl Sweep {
+impl Slabs {
     /// Slabs along the axis of `bins`' bounding box with the most block layers.
     pub fn build(&mut self, bins: &Bins) {
         let (lo, dim) = bins.extent();
@@ -88,7 +88,7 @@ impl Sweep {
     }
 
     /// Number of slabs.
-    pub fn slabs(&self) -> usize {
+    pub fn count(&self) -> usize {
         self.starts.len().saturating_sub(1)
     }
 
