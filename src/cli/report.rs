@@ -9,7 +9,7 @@ use crate::solver::analysis::reference::shown::{fitting, Seen};
 use crate::solver::analysis::reference::References;
 use crate::solver::analysis::verdict::END_SPREAD_CAUTION;
 use crate::solver::analysis::verdict::{Level, Verdict};
-use crate::solver::model::case::{CrossSection, LoadingMode};
+use crate::solver::model::case::{LoadingMode, Outline};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
 
@@ -43,16 +43,7 @@ fn scene_lines(o: &mut String, case: &Case) {
     if let Some(label) = &spec.label {
         let _ = writeln!(o, "{label}");
     }
-    let section = match case.geometry().section {
-        CrossSection::Round {
-            thickness_mm,
-            mean_diameter_mm,
-        } => format!("t {thickness_mm} mm, d {mean_diameter_mm} mm"),
-        CrossSection::Rectangular(r) => format!(
-            "t {} mm, {} x {} mm, corner r {} mm",
-            r.thickness_mm, r.side_a_mm, r.side_b_mm, r.corner_radius_mm
-        ),
-    };
+    let section = case.geometry().section.describe();
     let _ = writeln!(
         o,
         "tube {section}, l {} mm; {loading} crush at {} m/s",

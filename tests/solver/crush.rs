@@ -5,6 +5,7 @@ use crush::solver::analysis::reference::References;
 use crush::solver::engine::scene::Scene;
 use crush::solver::engine::shape::Gimp;
 use crush::solver::engine::solid::Simulation;
+use crush::solver::model::case::Outline;
 use crush::solver::{run, Case, Limits, RunOutput, SolveError};
 use std::sync::atomic::AtomicBool;
 

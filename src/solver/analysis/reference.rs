@@ -24,7 +24,7 @@ pub mod shown;
 pub use primary::Primary;
 pub use rectangular::RectangularReferences;
 
-use crate::solver::model::case::{Case, CrossSection, LoadingMode};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Outline};
 use crate::solver::model::material::given::FlowStresses;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -108,10 +108,9 @@ pub struct RoundReferences {
 /// Every reference load for `case`, from its cross-section.
 pub fn references(case: &Case) -> References {
     match case.geometry().section {
-        CrossSection::Round {
-            thickness_mm,
-            mean_diameter_mm,
-        } => References::Round(round(case, thickness_mm, mean_diameter_mm)),
+        CrossSection::Round(c) => {
+            References::Round(round(case, c.thickness_mm, c.mean_diameter_mm))
+        }
         CrossSection::Rectangular(r) => References::Rectangular(rectangular::references(case, &r)),
     }
 }

@@ -63,6 +63,9 @@ pub enum SectionShape {
 }
 
 impl SectionShape {
+    /// Every shape, in the schema's order.
+    pub const ALL: [SectionShape; 2] = [SectionShape::Round, SectionShape::Rectangular];
+
     /// The name a case uses.
     pub fn name(self) -> &'static str {
         match self {
@@ -111,6 +114,19 @@ pub struct Tube {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(title = "Corner radius r", description = "Rectangular tubes: the radius of the corners of the wall's mid-line, from t/2 (a sharp inner corner) to half the smaller side. Empty: t.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub corner_radius_mm: Option<f64>,
+}
+
+impl Tube {
+    /// The lengths that belong to one shape of section or another, by field, as given (`None`
+    /// where omitted): the checks refuse those of another shape than the tube's.
+    pub fn section_lengths(&self) -> [(&'static str, Option<f64>); 4] {
+        [
+            ("tube.mean_diameter_mm", self.mean_diameter_mm),
+            ("tube.side_a_mm", self.side_a_mm),
+            ("tube.side_b_mm", self.side_b_mm),
+            ("tube.corner_radius_mm", self.corner_radius_mm),
+        ]
+    }
 }
 
 impl Default for Tube {

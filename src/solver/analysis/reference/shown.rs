@@ -6,7 +6,7 @@
 //! the column buckled, so that this file sits below the mode's.
 
 use super::{References, RoundReferences, DIAMOND_LOBES};
-use crate::solver::model::case::{Case, LoadingMode};
+use crate::solver::model::case::{Case, LoadingMode, Outline};
 use crate::solver::model::spec::RateKind;
 
 use super::rectangular::RectangularReferences;
