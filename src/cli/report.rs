@@ -406,9 +406,9 @@ pub fn mode_name(mode: CollapseMode) -> String {
         CollapseMode::GlobalBuckling => "global (Euler) buckling".into(),
         CollapseMode::Flattening => "lateral flattening".into(),
         CollapseMode::TippedOver => "tipped over between the plates".into(),
-        CollapseMode::Symmetric => "symmetric (square tube)".into(),
-        CollapseMode::AsymmetricMixed => "asymmetric mixed (square tube)".into(),
-        CollapseMode::Extensional => "extensional (square tube)".into(),
+        CollapseMode::Symmetric => "symmetric (read face by face)".into(),
+        CollapseMode::AsymmetricMixed => "asymmetric mixed (read face by face)".into(),
+        CollapseMode::Extensional => "extensional (read face by face)".into(),
     }
 }
 
