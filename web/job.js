@@ -94,6 +94,14 @@ const REFERENCE_ROWS = {
       row("Wierzbicki & Abramowicz (1983), superfolding element", r.wierzbicki_abramowicz_n, false),
       row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
     ],
+  // A hexagonal tube has no folding closed form here: Euler's load and the squash load alone.
+  hexagonal: (r, lateral, row) => lateral
+    ? [el("tr", {}, el("td", { colspan: "3" }, "no closed form covers a hexagonal tube crushed laterally"))]
+    : [
+      el("tr", {}, el("td", { colspan: "3" }, "no folding closed form is given for a hexagonal tube")),
+      row("Squash load σ0·A (the whole wall yielding)", r.squash_n, false),
+      row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
+    ],
 };
 
 function referenceTable(s, lateral, section) {
@@ -152,6 +160,9 @@ const TUBE_ROW = {
   rectangular: (value) => ["Tube t × a × b × l, corner r",
     `${value("tube.thickness_mm")} × ${value("tube.side_a_mm")} × ` +
     `${value("tube.side_b_mm") ?? value("tube.side_a_mm")} × ${value("tube.length_mm")} mm, ` +
+    `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`],
+  hexagonal: (value) => ["Tube t × hexagon side s × l, corner r",
+    `${value("tube.thickness_mm")} × ${value("tube.side_mm")} × ${value("tube.length_mm")} mm, ` +
     `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`],
 };
 

@@ -23,14 +23,14 @@
 //! and not the whole ring: a slice's reach over all angles stays out wherever any lobe of an
 //! inclined diamond hinge is, and the same runs then read 5 and 6.
 //!
-//! A polygonal tube (one with [`Outline::faces`]: a rectangle's four) folds face by face: in a
-//! layer of lobes a square's two opposite faces go out and the other two in (or all four out),
-//! and the next layer turns them over, so a face line shows every layer as a lobe, out or in. Its folds are counted along the middle of each face
-//! ([`super::faces`]): the bumps of the face's outward or inward displacement, with the same
-//! rise, fall and reach as a round tube's, in which the wall runs back along the axis (a fold
-//! turns it back on itself; a face that only waves, as the unfolded part of a square tube
-//! does by a wall thickness or two, never does); the tube's count is the lower median over its
-//! faces.
+//! A polygonal tube (one with [`Outline::faces`]: a rectangle's four, a hexagon's six) folds
+//! face by face: in a layer of lobes a square's two opposite faces go out and the other two in
+//! (or all four out), and the next layer turns them over, so a face line shows every layer as a
+//! lobe, out or in. Its folds are counted along the middle of each face ([`super::faces`]): the
+//! bumps of the face's outward or inward displacement, with the same rise, fall and reach as a
+//! round tube's, in which the wall runs back along the axis (a fold turns it back on itself; a
+//! face that only waves, as the unfolded part of a square tube does by a wall thickness or two,
+//! never does); the tube's count is the lower median over its faces.
 //!
 //! The load curve's drops are counted apart (`curve::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.

@@ -64,7 +64,7 @@
 //! near 1; one flattened shut into a pouch, its two sides pressed together on the plate,
 //! spreads to π/2, half its perimeter either side of its centre.
 //!
-//! A polygonal tube's (one with [`Outline::faces`]: a rectangle's) harmonics are those of its
+//! A polygonal tube's (one with [`Outline::faces`]: a rectangle's, a hexagon's) harmonics are those of its
 //! wall-line angle (its perimeter), and its drift is judged against its section's width; once
 //! it has not bent over as a whole, its mode is read from how its faces fold ([`faceted`]):
 //! symmetric, asymmetric mixed or extensional.
@@ -116,7 +116,7 @@ pub struct ModeDetail {
     /// Slices holding enough particles to analyse.
     pub slices: u32,
     /// Slices counted as folded: a round tube's where the wall turned back along the axis (the
-    /// ring/diamond decision reads these), a rectangular tube's where its faces moved enough to
+    /// ring/diamond decision reads these), a polygonal tube's where its faces moved enough to
     /// be read (the faces' patterns in `faces` count these).
     pub folded_slices: u32,
     /// Width of a slice in the initial axial coordinate, mm.
@@ -176,7 +176,7 @@ pub struct ModeDetail {
     pub unfolded_excess_two_lobe_at_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
-    /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
+    /// A polygonal tube's folded slices by the pattern of their faces (axial loading).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub faces: Option<FaceLayers>,
 }

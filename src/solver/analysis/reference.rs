@@ -14,13 +14,16 @@
 //! σy for a perfectly plastic wall such as the paper's PVC.
 //!
 //! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
-//! Jones).
+//! Jones), and so has a hexagonal one ([`hexagonal`]: Euler's load and the squash load; no
+//! folding mean load).
 
+pub mod hexagonal;
 mod primary;
 pub mod rectangular;
 pub mod shell;
 pub mod shown;
 
+pub use hexagonal::HexagonalReferences;
 pub use primary::Primary;
 pub use rectangular::RectangularReferences;
 
@@ -53,6 +56,7 @@ pub struct DiamondReference {
 pub enum References {
     Round(RoundReferences),
     Rectangular(RectangularReferences),
+    Hexagonal(HexagonalReferences),
 }
 
 impl Default for References {
@@ -67,6 +71,7 @@ impl References {
         match self {
             References::Round(r) => r.primary,
             References::Rectangular(r) => r.primary,
+            References::Hexagonal(r) => r.primary,
         }
     }
 
@@ -77,6 +82,7 @@ impl References {
         match self {
             References::Round(r) => r.primary_n,
             References::Rectangular(r) => r.primary_n,
+            References::Hexagonal(r) => r.primary_n,
         }
         .filter(|p| *p > 0.0)
     }
@@ -112,6 +118,7 @@ pub fn references(case: &Case) -> References {
             References::Round(round(case, c.thickness_mm, c.mean_diameter_mm))
         }
         CrossSection::Rectangular(r) => References::Rectangular(rectangular::references(case, &r)),
+        CrossSection::Hexagonal(h) => References::Hexagonal(hexagonal::references(case, &h)),
     }
 }
 

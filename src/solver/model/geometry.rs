@@ -1,7 +1,7 @@
 //! The tube's geometry, owned in one place. Its cross-section ([`CrossSection`], which answers
 //! every question of [`Outline`]: the wall's shape and thickness, the layers of its lattice, and
-//! the wall-line metric the analysis reads a deformed tube with; one file per shape, [`round`]
-//! and [`rectangle`]) and, with the length, the particles through the wall, the model and the
+//! the wall-line metric the analysis reads a deformed tube with; one file per shape, [`round`],
+//! [`rectangle`] and [`hexagon`]) and, with the length, the particles through the wall, the model and the
 //! loading direction, the particle lattice ([`Geometry`]): every particle's centre and volume,
 //! the one exact particle count, where the plates start and the box the particles must stay in.
 //! Everything after the scene reads the geometry from here, never from raw t and d, and asks the
@@ -15,11 +15,13 @@
 //! (volume area·l).
 
 mod cross_section;
+pub mod hexagon;
 pub mod outline;
 pub mod rectangle;
 pub mod round;
 
 pub use cross_section::CrossSection;
+pub use hexagon::Hexagon;
 pub use outline::Outline;
 pub use rectangle::Rectangle;
 pub use round::Circle;

@@ -4,6 +4,7 @@
 //! [`Outline`] question passed on to the shape that answers it. A new shape is a file beside
 //! this one and an arm in each match here. Units: mm.
 
+use super::hexagon::{self, Hexagon};
 use super::outline::{Outline, Ring};
 use super::rectangle::{self, Rectangle};
 use super::round::{self, Circle};
@@ -18,6 +19,8 @@ pub enum CrossSection {
     Round(Circle),
     /// A rectangular tube with rounded corners ([`Rectangle`]).
     Rectangular(Rectangle),
+    /// A regular hexagonal tube with rounded corners ([`Hexagon`]).
+    Hexagonal(Hexagon),
 }
 
 /// Passes a question on to the shape's room.
@@ -26,6 +29,7 @@ macro_rules! each {
         match $section {
             CrossSection::Round($shape) => $answer,
             CrossSection::Rectangular($shape) => $answer,
+            CrossSection::Hexagonal($shape) => $answer,
         }
     };
 }
@@ -35,6 +39,7 @@ fn own_fields(shape: SectionShape) -> &'static [&'static str] {
     match shape {
         SectionShape::Round => round::FIELDS,
         SectionShape::Rectangular => rectangle::FIELDS,
+        SectionShape::Hexagonal => hexagon::FIELDS,
     }
 }
 
@@ -45,6 +50,7 @@ impl CrossSection {
         match tube.section {
             SectionShape::Round => CrossSection::Round(Circle::of(tube)),
             SectionShape::Rectangular => CrossSection::Rectangular(Rectangle::of(tube)),
+            SectionShape::Hexagonal => CrossSection::Hexagonal(Hexagon::of(tube)),
         }
     }
 
@@ -74,6 +80,7 @@ impl CrossSection {
         match t.section {
             SectionShape::Round => Circle::check(c, t),
             SectionShape::Rectangular => Rectangle::check(c, t),
+            SectionShape::Hexagonal => Hexagon::check(c, t),
         }
     }
 }
