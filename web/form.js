@@ -105,12 +105,13 @@ function showProblem(data) {
   return shown;
 }
 
-/// The fields that belong to one cross-section only; the others' rows are hidden and not sent.
+/// The fields that belong to some cross-sections only; the others' rows are hidden and not sent.
 const SECTION_ONLY = {
-  "tube.mean_diameter_mm": "round",
-  "tube.side_a_mm": "rectangular",
-  "tube.side_b_mm": "rectangular",
-  "tube.corner_radius_mm": "rectangular",
+  "tube.mean_diameter_mm": ["round"],
+  "tube.side_a_mm": ["rectangular"],
+  "tube.side_b_mm": ["rectangular"],
+  "tube.corner_radius_mm": ["rectangular", "hexagonal"],
+  "tube.side_mm": ["hexagonal"],
 };
 
 /// Whether field `f` applies to the section the form names.
@@ -118,7 +119,7 @@ function applies(f) {
   const only = SECTION_ONLY[f.field];
   if (!only) return true;
   const section = document.getElementById(fieldId("tube.section"));
-  return ((section && section.value) || "round") === only;
+  return only.includes((section && section.value) || "round");
 }
 
 /// Shows the rows of the named section's fields and hides the others'.

@@ -72,7 +72,39 @@ function energyTable(s) {
     el("td", { class: "num" }, work > 0 ? pct(v / work) : "–")))));
 }
 
-function referenceTable(s, lateral) {
+/// Each cross-section's closed-form rows, by the case's `tube.section`: `row(name, load, primary)`.
+const REFERENCE_ROWS = {
+  round: (r, lateral, row) => lateral
+    // Only the references of this loading: a lateral formula says nothing of an axial run.
+    ? [
+      row("DeRuntz & Hodge (1963), mean over the crush", r.deruntz_hodge_mean_n || 0, true),
+      row("DeRuntz & Hodge (1963), at first contact", r.deruntz_hodge_initial_n, false),
+    ]
+    : [
+      row("Alexander (1960), ring", r.alexander_ring_n, true),
+      ...r.diamond.map((d) => row(`Johnson et al. (1977), diamond n = ${d.lobes}`, d.travelling_n, false)),
+      row("Euler, clamped ends (global buckling)", r.euler_clamped_n, false),
+    ],
+  // A rectangular tube's own closed forms (axial only; none covers a lateral crush).
+  rectangular: (r, lateral, row) => lateral
+    ? [el("tr", {}, el("td", { colspan: "3" }, "no closed form covers a rectangular tube crushed laterally"))]
+    : [
+      row("Abramowicz & Jones (1984), effective crushing distance" +
+        (r.abramowicz_jones_dynamic_n ? `, × ${r.rate_factor.toFixed(2)} for the strain rate` : ""), r.primary_n, true),
+      row("Wierzbicki & Abramowicz (1983), superfolding element", r.wierzbicki_abramowicz_n, false),
+      row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
+    ],
+  // A hexagonal tube has no folding closed form here: Euler's load and the squash load alone.
+  hexagonal: (r, lateral, row) => lateral
+    ? [el("tr", {}, el("td", { colspan: "3" }, "no closed form covers a hexagonal tube crushed laterally"))]
+    : [
+      el("tr", {}, el("td", { colspan: "3" }, "no folding closed form is given for a hexagonal tube")),
+      row("Squash load σ0·A (the whole wall yielding)", r.squash_n, false),
+      row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
+    ],
+};
+
+function referenceTable(s, lateral, section) {
   const r = s.references;
   const mean = s.mean_load_n;
   const row = (name, value, primary) => {
@@ -82,28 +114,7 @@ function referenceTable(s, lateral) {
       el("td", { class: "num" }, value > 0 ? kN(value) : "–"),
       el("td", { class: "num ratio " + cls }, ratio === null ? "–" : ratio.toFixed(2)));
   };
-  // A rectangular tube's own closed forms (axial only; none covers a lateral crush).
-  const rectangular = r.wierzbicki_abramowicz_n !== undefined;
-  const rows = rectangular
-    ? (lateral
-      ? [el("tr", {}, el("td", { colspan: "3" }, "no closed form covers a rectangular tube crushed laterally"))]
-      : [
-        row("Abramowicz & Jones (1984), effective crushing distance" +
-          (r.abramowicz_jones_dynamic_n ? `, × ${r.rate_factor.toFixed(2)} for the strain rate` : ""), r.primary_n, true),
-        row("Wierzbicki & Abramowicz (1983), superfolding element", r.wierzbicki_abramowicz_n, false),
-        row("Euler, clamped ends (global bending)", r.euler_clamped_n, false),
-      ])
-  // Only the references of this loading: a lateral formula says nothing of an axial run.
-    : lateral
-    ? [
-      row("DeRuntz & Hodge (1963), mean over the crush", r.deruntz_hodge_mean_n || 0, true),
-      row("DeRuntz & Hodge (1963), at first contact", r.deruntz_hodge_initial_n, false),
-    ]
-    : [
-      row("Alexander (1960), ring", r.alexander_ring_n, true),
-      ...r.diamond.map((d) => row(`Johnson et al. (1977), diamond n = ${d.lobes}`, d.travelling_n, false)),
-      row("Euler, clamped ends (global buckling)", r.euler_clamped_n, false),
-    ];
+  const rows = (REFERENCE_ROWS[section] || REFERENCE_ROWS.round)(r, lateral, row);
   return el("table", { id: "references" },
     el("thead", {}, el("tr", {}, el("th", {}, "closed-form reference"), el("th", { class: "num" }, "load"), el("th", { class: "num" }, "run mean / reference"))),
     el("tbody", {}, rows));
@@ -142,6 +153,19 @@ function materialName(c, value) {
 /// The case's main numbers, each as the case gives it or, where it leaves one out, the value
 /// the server uses, said to be the default; `summary` (once the job succeeded) or `estimated`
 /// says which shape functions the code chose for a case that left them out.
+/// Each cross-section's row of the case table, from the case's values.
+const TUBE_ROW = {
+  round: (value) => ["Tube t × d × l",
+    `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
+  rectangular: (value) => ["Tube t × a × b × l, corner r",
+    `${value("tube.thickness_mm")} × ${value("tube.side_a_mm")} × ` +
+    `${value("tube.side_b_mm") ?? value("tube.side_a_mm")} × ${value("tube.length_mm")} mm, ` +
+    `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`],
+  hexagonal: (value) => ["Tube t × hexagon side s × l, corner r",
+    `${value("tube.thickness_mm")} × ${value("tube.side_mm")} × ${value("tube.length_mm")} mm, ` +
+    `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`],
+};
+
 function caseTable(c, summary, estimated) {
   const given = (field) => {
     let v = c;
@@ -164,11 +188,7 @@ function caseTable(c, summary, estimated) {
     : (DEFAULT_CRUSH_MM[mode] === undefined ? "the default distance" : `${DEFAULT_CRUSH_MM[mode]} mm (default)`);
   const density = value("material.density_kg_m3");
   const rows = [
-    value("tube.section") === "rectangular"
-      ? ["Tube t × a × b × l, corner r", `${value("tube.thickness_mm")} × ${value("tube.side_a_mm")} × ` +
-        `${value("tube.side_b_mm") ?? value("tube.side_a_mm")} × ${value("tube.length_mm")} mm, ` +
-        `r ${value("tube.corner_radius_mm") ?? value("tube.thickness_mm")} mm`]
-      : ["Tube t × d × l", `${value("tube.thickness_mm")} × ${value("tube.mean_diameter_mm")} × ${value("tube.length_mm")} mm`],
+    (TUBE_ROW[value("tube.section")] || TUBE_ROW.round)(value),
     ["Material", el("span", { id: "material-name" }, materialName(c, value)),
       `: ${value("material.model")}, E ${value("material.youngs_modulus_mpa")} MPa, ν ${value("material.poisson_ratio")}, ` +
       `σy ${value("material.yield_stress_mpa")} MPa` + (density === undefined ? "" : `, ρ ${density} kg/m³`)],
@@ -336,6 +356,7 @@ async function showResult(job, live, chartBox, side, below) {
     resultChart(chartBox, h, s);
   }
   const lateral = !!(job.case && job.case.loading && job.case.loading.mode === "lateral");
+  const section = (job.case && job.case.tube && job.case.tube.section) || "round";
   side.replaceChildren(
     el("div", {}, el("h2", {}, "Verdict"), verdictBox(job.verdict || s.verdict, "verdict") ||
       el("p", { class: "small muted", id: "verdict" }, "This result was stored before there were verdicts."),
@@ -343,7 +364,7 @@ async function showResult(job, live, chartBox, side, below) {
     el("div", {}, el("h2", {}, "Case"), caseTable(job.case || {}, s),
       el("h2", {}, "Energy books"), energyTable(s),
       el("h2", {}, "Against closed-form references"),
-      referenceTable(s, lateral),
+      referenceTable(s, lateral, section),
       el("p", { class: "small muted" }, "Green: within 25 % of the reference.",
         lateral ? "" : " Diamond loads are Johnson's travelling-hinge form.")));
   const keepsState = !(job.case && job.case.output && job.case.output.final_state === false);

@@ -9,7 +9,7 @@ use crate::solver::analysis::reference::shown::{fitting, Seen};
 use crate::solver::analysis::reference::References;
 use crate::solver::analysis::verdict::END_SPREAD_CAUTION;
 use crate::solver::analysis::verdict::{Level, Verdict};
-use crate::solver::model::case::{CrossSection, LoadingMode};
+use crate::solver::model::case::{LoadingMode, Outline};
 use crate::solver::{Case, CaseError, CollapseMode, Summary};
 use std::fmt::Write;
 
@@ -43,16 +43,7 @@ fn scene_lines(o: &mut String, case: &Case) {
     if let Some(label) = &spec.label {
         let _ = writeln!(o, "{label}");
     }
-    let section = match case.geometry().section {
-        CrossSection::Round {
-            thickness_mm,
-            mean_diameter_mm,
-        } => format!("t {thickness_mm} mm, d {mean_diameter_mm} mm"),
-        CrossSection::Rectangular(r) => format!(
-            "t {} mm, {} x {} mm, corner r {} mm",
-            r.thickness_mm, r.side_a_mm, r.side_b_mm, r.corner_radius_mm
-        ),
-    };
+    let section = case.geometry().section.describe();
     let _ = writeln!(
         o,
         "tube {section}, l {} mm; {loading} crush at {} m/s",
@@ -415,9 +406,9 @@ pub fn mode_name(mode: CollapseMode) -> String {
         CollapseMode::GlobalBuckling => "global (Euler) buckling".into(),
         CollapseMode::Flattening => "lateral flattening".into(),
         CollapseMode::TippedOver => "tipped over between the plates".into(),
-        CollapseMode::Symmetric => "symmetric (square tube)".into(),
-        CollapseMode::AsymmetricMixed => "asymmetric mixed (square tube)".into(),
-        CollapseMode::Extensional => "extensional (square tube)".into(),
+        CollapseMode::Symmetric => "symmetric (read face by face)".into(),
+        CollapseMode::AsymmetricMixed => "asymmetric mixed (read face by face)".into(),
+        CollapseMode::Extensional => "extensional (read face by face)".into(),
     }
 }
 

@@ -7,7 +7,7 @@
 //! the crush left them, and every view has a scale bar in mm. Lengths in mm.
 
 use super::font::font;
-use crate::solver::model::case::{Geometry, LoadingMode, Model};
+use crate::solver::model::case::{Geometry, LoadingMode, Model, Outline};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::colors::colormaps::ViridisRGB;

@@ -248,16 +248,24 @@ mod tests {
         if field == "discretization.model" && value == "plane_strain" {
             spec["loading"]["mode"] = "lateral".into();
         }
-        // A rectangular section's lengths, tried on a rectangular tube (which has no diameter).
+        // A rectangular section's lengths, tried on a rectangular tube (which has no diameter);
+        // a hexagon's side, on a hexagonal one.
         let rectangular = matches!(
             field,
             "tube.side_a_mm" | "tube.side_b_mm" | "tube.corner_radius_mm"
         ) || (field == "tube.section" && value == "rectangular");
-        if rectangular {
-            let tube = spec["tube"].as_object_mut().unwrap();
-            tube.remove("mean_diameter_mm");
-            tube.insert("section".into(), "rectangular".into());
-            tube.insert("side_a_mm".into(), 30.0.into());
+        let hexagonal =
+            field == "tube.side_mm" || (field == "tube.section" && value == "hexagonal");
+        for (shape, side, given) in [
+            ("rectangular", "side_a_mm", rectangular),
+            ("hexagonal", "side_mm", hexagonal),
+        ] {
+            if given {
+                let tube = spec["tube"].as_object_mut().unwrap();
+                tube.remove("mean_diameter_mm");
+                tube.insert("section".into(), shape.into());
+                tube.insert(side.into(), 30.0.into());
+            }
         }
         // A law's constants, tried with the law that reads them (and its other constants).
         let material = &mut spec["material"];
@@ -351,6 +359,7 @@ mod tests {
                 "tube.side_a_mm",
                 "tube.side_b_mm",
                 "tube.corner_radius_mm",
+                "tube.side_mm",
                 "material.preset",
                 "material.hardening",
                 "material.hardening_curve",
@@ -450,7 +459,10 @@ mod tests {
         // In the types' order, the case's sections as the page groups them.
         assert_eq!(all[0].field, "label");
         assert_eq!(all[1].field, "tube.section");
-        assert_eq!(field("tube.section").choices, ["round", "rectangular"]);
+        assert_eq!(
+            field("tube.section").choices,
+            ["round", "rectangular", "hexagonal"]
+        );
         assert_eq!(all.last().unwrap().field, "output.frames");
     }
 

@@ -328,55 +328,55 @@ impl Builder {
         };
         let theory = |name: &str| (Kind::Theory, name.to_string());
         let mut rows: Vec<(Quantity, f64, Kind, String)> = Vec::new();
-        match references(&case) {
-            References::Round(r) => {
-                for f in forms {
-                    match f {
-                        Form::Alexander => {
-                            let (k, n) = theory("Alexander (1960), ring mode");
-                            rows.push((Quantity::MeanLoadKn, r.alexander_ring_n, k, n));
-                        }
-                        Form::Diamond(lobes) => {
-                            if let Some(d) = r.diamond.iter().find(|d| d.lobes == *lobes) {
-                                let (k, n) = theory(&format!(
-                                    "Johnson, Soden & Al-Hassani (1977), {lobes} lobes, \
+        // Each shape's forms, where the case's section has them.
+        let refs = references(&case);
+        if let References::Round(r) = &refs {
+            for f in forms {
+                match f {
+                    Form::Alexander => {
+                        let (k, n) = theory("Alexander (1960), ring mode");
+                        rows.push((Quantity::MeanLoadKn, r.alexander_ring_n, k, n));
+                    }
+                    Form::Diamond(lobes) => {
+                        if let Some(d) = r.diamond.iter().find(|d| d.lobes == *lobes) {
+                            let (k, n) = theory(&format!(
+                                "Johnson, Soden & Al-Hassani (1977), {lobes} lobes, \
                                      travelling hinge"
-                                ));
-                                rows.push((Quantity::MeanLoadKn, d.travelling_n, k, n));
-                            }
+                            ));
+                            rows.push((Quantity::MeanLoadKn, d.travelling_n, k, n));
                         }
-                        Form::DeruntzHodge => {
-                            if let Some(p) = r.deruntz_hodge_mean_n {
-                                let (k, n) = theory("DeRuntz & Hodge (1963), mean over the crush");
-                                rows.push((Quantity::MeanLoadKn, p, k, n));
-                            }
+                    }
+                    Form::DeruntzHodge => {
+                        if let Some(p) = r.deruntz_hodge_mean_n {
+                            let (k, n) = theory("DeRuntz & Hodge (1963), mean over the crush");
+                            rows.push((Quantity::MeanLoadKn, p, k, n));
                         }
-                        Form::Euler => {
-                            let (k, n) = theory("Euler, clamped ends");
-                            rows.push((Quantity::FirstPeakKn, r.euler_clamped_n, k, n));
-                        }
-                        Form::Metal => {
-                            let (k, n) = theory("Abramowicz & Jones (1984), effective crush");
-                            rows.push((Quantity::MeanLoadKn, r.metal.abramowicz_jones_n, k, n));
-                            if r.metal.guillow_in_range {
-                                rows.push((
-                                    Quantity::MeanLoadKn,
-                                    r.metal.guillow_n,
-                                    Kind::Fit,
-                                    "Guillow, Lu & Grzebieta (2001), 6060-T5 tests".into(),
-                                ));
-                            }
+                    }
+                    Form::Euler => {
+                        let (k, n) = theory("Euler, clamped ends");
+                        rows.push((Quantity::FirstPeakKn, r.euler_clamped_n, k, n));
+                    }
+                    Form::Metal => {
+                        let (k, n) = theory("Abramowicz & Jones (1984), effective crush");
+                        rows.push((Quantity::MeanLoadKn, r.metal.abramowicz_jones_n, k, n));
+                        if r.metal.guillow_in_range {
+                            rows.push((
+                                Quantity::MeanLoadKn,
+                                r.metal.guillow_n,
+                                Kind::Fit,
+                                "Guillow, Lu & Grzebieta (2001), 6060-T5 tests".into(),
+                            ));
                         }
                     }
                 }
             }
-            References::Rectangular(r) => {
-                if forms.contains(&Form::Metal) {
-                    let (k, n) = theory("Abramowicz & Jones (1984), square tube");
-                    rows.push((Quantity::MeanLoadKn, r.abramowicz_jones_n, k, n));
-                    let (k, n) = theory("Wierzbicki & Abramowicz (1983)");
-                    rows.push((Quantity::MeanLoadKn, r.wierzbicki_abramowicz_n, k, n));
-                }
+        }
+        if let References::Rectangular(r) = &refs {
+            if forms.contains(&Form::Metal) {
+                let (k, n) = theory("Abramowicz & Jones (1984), square tube");
+                rows.push((Quantity::MeanLoadKn, r.abramowicz_jones_n, k, n));
+                let (k, n) = theory("Wierzbicki & Abramowicz (1983)");
+                rows.push((Quantity::MeanLoadKn, r.wierzbicki_abramowicz_n, k, n));
             }
         }
         for (quantity, load_n, kind, name) in rows {

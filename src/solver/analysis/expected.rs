@@ -12,7 +12,7 @@ mod tables;
 pub use tables::{error_table, expected_error_percent, ERROR_BASIS};
 
 use super::reference::shown::METAL_MODULUS_MPA;
-use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model, ShapeKind};
+use crate::solver::model::case::{Case, LoadingMode, Model, Outline, ShapeKind};
 use crate::solver::model::spec::{HardeningKind, MaterialModel, RateKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -107,9 +107,12 @@ enum Wall {
 /// The studied wall that guides `case` with `shape`, or why none does.
 fn guiding_wall(case: &Case, shape: ShapeKind) -> Result<Wall, String> {
     let section = case.geometry().section;
-    let CrossSection::Round { .. } = section else {
-        return Err("the studies are of round tubes; no rectangular tube's is measured".into());
-    };
+    if !section.revolves() {
+        return Err(format!(
+            "the studies are of round tubes; no {} tube's is measured",
+            section.name()
+        ));
+    }
     let d_over_t = section.width_mm() / section.thickness_mm();
     let near = |studied: f64| (studied / NEAR_FACTOR..=studied * NEAR_FACTOR).contains(&d_over_t);
     let wall = match (near(STUDIED_D_OVER_T), near(THIN_D_OVER_T)) {

@@ -1,30 +1,32 @@
-//! A rectangular tube's four faces along its length, from its final shape: per slice of the
-//! material (by position along the axis before the crush), how far each face's middle moved
-//! out (+) or in (−) along its normal. The folds ([`super::folds`]) and the collapse mode
-//! ([`super::mode`]) of a square tube are read from these. Units: mm.
+//! A polygonal tube's faces along its length (a rectangle's four, a hexagon's six: the section's
+//! [`Outline::faces`]), from its final shape: per slice of the material (by position along the
+//! axis before the crush), how far each face's middle moved out (+) or in (−) along its normal.
+//! The folds ([`super::folds`]) and the collapse mode ([`super::mode`]) of such a tube are read
+//! from these. Units: mm.
 //!
 //! A face's displacement in a slice is the mean, over the particles beside the middle half of
-//! the face ([`CrossSection::face`]), of how much further out their wall-line reach is now than
+//! the face ([`Outline::face`]), of how much further out their wall-line reach is now than
 //! before the crush, each measured from the slice's centroid of the time: a slice that moved
 //! sideways reads as it would in place, and the faces' lobes (which the corners do not follow) are what
 //! remains.
 
 use crate::solver::engine::Snapshot;
-use crate::solver::model::case::CrossSection;
+use crate::solver::model::case::{CrossSection, Outline};
 use crate::solver::Real;
 
 /// One slice of the tube.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct FaceSlice {
     /// Mean position along the axis before the crush, mm.
     pub axial: Real,
     /// Particles in the slice.
     pub count: usize,
-    /// Each face's mean outward displacement; None where no particle lies beside its middle.
-    pub w: [Option<Real>; 4],
+    /// Each face's mean outward displacement, in face order; None where no particle lies
+    /// beside its middle.
+    pub w: Vec<Option<Real>>,
     /// Each face middle's mean position along the axis now (None as for `w`): where a fold
     /// turned the wall back on itself, it falls from one slice to the next.
-    pub along: [Option<Real>; 4],
+    pub along: Vec<Option<Real>>,
     /// RMS of every particle's outward displacement in the slice.
     pub rms: Real,
 }
@@ -62,7 +64,7 @@ pub fn face_slices(
         }
     }
     // Per face (count, Σ w, Σ position along the axis now), and Σ w² over the slice.
-    let mut faces = vec![([(0usize, 0.0, 0.0); 4], 0.0); slices];
+    let mut faces = vec![(vec![(0usize, 0.0, 0.0); section.faces()], 0.0); slices];
     for (a, p) in pairs() {
         let k = slice(a);
         let (m, _, sums) = centroid[k];
@@ -81,8 +83,14 @@ pub fn face_slices(
         .map(|((m, axial, ..), (sums, squares))| FaceSlice {
             axial: axial / m as Real,
             count: m,
-            w: sums.map(|(n, s, _)| (n > 0).then(|| s / n as Real)),
-            along: sums.map(|(n, _, a)| (n > 0).then(|| a / n as Real)),
+            w: sums
+                .iter()
+                .map(|&(n, s, _)| (n > 0).then(|| s / n as Real))
+                .collect(),
+            along: sums
+                .iter()
+                .map(|&(n, _, a)| (n > 0).then(|| a / n as Real))
+                .collect(),
             rms: (squares / m as Real).sqrt(),
         })
         .collect()
@@ -157,7 +165,7 @@ pub(crate) mod tests {
         // The middle half of a face moves by 1 to 0.53 of its displacement, 0.765 of it on
         // average.
         for s in &slices {
-            let w = s.w.map(|w| w.unwrap());
+            let w: Vec<Real> = s.w.iter().map(|w| w.unwrap()).collect();
             for (f, want) in [(0, -0.765), (1, 1.53), (2, -0.765), (3, 1.53)] {
                 assert!((w[f] - want).abs() < 0.02, "face {f}: {s:?}");
             }

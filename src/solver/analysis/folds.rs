@@ -23,14 +23,14 @@
 //! and not the whole ring: a slice's reach over all angles stays out wherever any lobe of an
 //! inclined diamond hinge is, and the same runs then read 5 and 6.
 //!
-//! A rectangular tube folds face by face: in a layer of lobes two opposite faces go out and the
-//! other two in (or all four out), and the next layer turns them over, so a face line shows
-//! every layer as a lobe, out or in. Its folds are counted along the middle of each face
-//! ([`super::faces`]): the bumps of the face's outward or inward displacement, with the same
-//! rise, fall and reach as a round tube's, in which the wall runs back along the axis (a fold
-//! turns it back on itself; a face that only waves, as the unfolded part of a square tube
-//! does by a wall thickness or two, never does); the tube's count is the lower median over its
-//! four faces.
+//! A polygonal tube (one with [`Outline::faces`]: a rectangle's four, a hexagon's six) folds
+//! face by face: in a layer of lobes a square's two opposite faces go out and the other two in
+//! (or all four out), and the next layer turns them over, so a face line shows every layer as a
+//! lobe, out or in. Its folds are counted along the middle of each face ([`super::faces`]): the
+//! bumps of the face's outward or inward displacement, with the same rise, fall and reach as a
+//! round tube's, in which the wall runs back along the axis (a fold turns it back on itself; a
+//! face that only waves, as the unfolded part of a square tube does by a wall thickness or two,
+//! never does); the tube's count is the lower median over its faces.
 //!
 //! The load curve's drops are counted apart (`curve::count_load_drops`): in the diamond runs
 //! each lobe's peak shows there, about twice the folds visible in the sections.
@@ -38,7 +38,7 @@
 use super::faces::face_slices;
 use super::peaks::Peaks;
 use crate::solver::engine::Snapshot;
-use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model, Outline};
 use crate::solver::Real;
 
 /// The rise and fall of the outer profile that makes a fold, in wall thicknesses. Measured:
@@ -70,7 +70,7 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         let line = section_line(snapshot, case.spacing_mm(), section.outer_mm());
         return count_bumps(&median3(&line), FOLD_PROMINENCE_T * t, FOLD_REACH_T * t);
     }
-    if let CrossSection::Rectangular(_) = section {
+    if section.faces() > 0 {
         return face_folds(snapshot, case.spacing_mm(), &section);
     }
     let lines = wall_lines(snapshot, case.spacing_mm(), &section);
@@ -95,12 +95,12 @@ pub fn count_folds(case: &Case, snapshot: &Snapshot) -> u32 {
         .unwrap_or(0)
 }
 
-/// The folds of a rectangular tube along the middles of its faces, slices `h` thick: the lower
+/// The folds of a polygonal tube along the middles of its faces, slices `h` thick: the lower
 /// median over the faces of each face's folded bumps ([`face_line_folds`]).
 fn face_folds(snapshot: &Snapshot, h: Real, section: &CrossSection) -> u32 {
     let t = section.thickness_mm();
     let slices = face_slices(snapshot, section, [2, 0, 1], h);
-    let mut faces: Vec<u32> = (0..4)
+    let mut faces: Vec<u32> = (0..section.faces())
         .map(|f| {
             let line: Vec<(Real, Real)> = slices
                 .iter()
@@ -110,7 +110,7 @@ fn face_folds(snapshot: &Snapshot, h: Real, section: &CrossSection) -> u32 {
         })
         .collect();
     faces.sort_unstable();
-    faces[1]
+    faces[(faces.len() - 1) / 2]
 }
 
 /// The folds along one face's middle, from its (displacement, position along the axis now)

@@ -5,7 +5,7 @@
 
 use super::curve::{load_drops, running_energy, EnergyBooks};
 use crate::solver::engine::history::HistoryRow;
-use crate::solver::model::case::CrossSection;
+use crate::solver::model::case::{CrossSection, Outline};
 use crate::solver::model::spec::CaseSpec;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -85,7 +85,7 @@ impl Measures {
 }
 
 /// ρ A l, g, with the wall's cross-section area A (π d t for a round tube, t times the
-/// mid-line's length for a rectangular one; ρ in kg/m³ and the volume in mm³:
+/// mid-line's length for a polygon; ρ in kg/m³ and the volume in mm³:
 /// 1 kg/m³ · 1 mm³ = 1e-6 g).
 pub fn tube_mass_g(spec: &CaseSpec) -> f64 {
     let area_mm2 = CrossSection::of(&spec.tube).area_mm2();

@@ -64,12 +64,13 @@
 //! near 1; one flattened shut into a pouch, its two sides pressed together on the plate,
 //! spreads to π/2, half its perimeter either side of its centre.
 //!
-//! A rectangular tube's harmonics are those of its wall-line angle (its perimeter), and its
-//! drift is judged against its larger side; once it has not bent over as a whole, its mode is
-//! read from how its faces fold ([`rectangular`]): symmetric, asymmetric mixed or extensional.
+//! A polygonal tube's (one with [`Outline::faces`]: a rectangle's, a hexagon's) harmonics are those of its
+//! wall-line angle (its perimeter), and its drift is judged against its section's width; once
+//! it has not bent over as a whole, its mode is read from how its faces fold ([`faceted`]):
+//! symmetric, asymmetric mixed or extensional.
 
+mod faceted;
 mod kinds;
-mod rectangular;
 
 pub use kinds::{CollapseMode, FaceLayers};
 
@@ -77,7 +78,7 @@ use super::faces::face_slices;
 use super::reference::fold_length_mm;
 use super::reference::shell::lobe_decay_mm;
 use crate::solver::engine::Snapshot;
-use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Model, Outline};
 use crate::solver::Real;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -115,7 +116,7 @@ pub struct ModeDetail {
     /// Slices holding enough particles to analyse.
     pub slices: u32,
     /// Slices counted as folded: a round tube's where the wall turned back along the axis (the
-    /// ring/diamond decision reads these), a rectangular tube's where its faces moved enough to
+    /// ring/diamond decision reads these), a polygonal tube's where its faces moved enough to
     /// be read (the faces' patterns in `faces` count these).
     pub folded_slices: u32,
     /// Width of a slice in the initial axial coordinate, mm.
@@ -175,7 +176,7 @@ pub struct ModeDetail {
     pub unfolded_excess_two_lobe_at_mm: Real,
     /// One sentence: which test decided.
     pub reason: String,
-    /// A rectangular tube's folded slices by the pattern of their faces (axial loading).
+    /// A polygonal tube's folded slices by the pattern of their faces (axial loading).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub faces: Option<FaceLayers>,
 }
@@ -265,9 +266,10 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
             axisymmetric_detail(case, snapshot, detail),
         );
     }
-    let rectangular = matches!(section, CrossSection::Rectangular(_));
+    // Read face by face, or by harmonics around the axis.
+    let faceted = section.faces() > 0;
     // The unfolded wall's oval is read on a round tube under axial loading only.
-    let oval = geometry.mode == LoadingMode::Axial && !rectangular;
+    let oval = geometry.mode == LoadingMode::Axial && !faceted;
     let slices = slice_up(
         snapshot,
         &section,
@@ -289,7 +291,7 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
         return (CollapseMode::Flattening, detail);
     }
     if slices.is_empty() {
-        let (mode, name) = match rectangular {
+        let (mode, name) = match faceted {
             true => (CollapseMode::Symmetric, "symmetric"),
             false => (CollapseMode::Ring, "ring"),
         };
@@ -312,9 +314,9 @@ pub fn detect_mode(case: &Case, snapshot: &Snapshot) -> (CollapseMode, ModeDetai
     if let Some(mode) = global_collapse(&mut detail, max_fold) {
         return (mode, detail);
     }
-    if rectangular {
+    if faceted {
         let faces = face_slices(snapshot, &section, axes, detail.slice_width_mm);
-        let (mode, counts, reason) = rectangular::decide(&faces, FOLDED_MIN_T * t);
+        let (mode, counts, reason) = faceted::decide(&faces, FOLDED_MIN_T * t);
         detail.faces = Some(counts);
         detail.folded_slices = counts.total();
         detail.reason = reason;

@@ -14,7 +14,7 @@ use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
 use crate::solver::model::case::{slenderness, ugimp_may_tip_over};
 use crate::solver::model::case::{
-    Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, SectionShape, ShapeKind,
+    Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, Outline, ShapeKind,
 };
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -141,12 +141,12 @@ pub fn plan(case: &Case, goal: Goal, threads: u32, rates: &Rates, limits: &Limit
 }
 
 /// The reduced model that can run a 3D case (none with a trigger: a section has no weak
-/// particles to place; none for a rectangular tube crushed axially, which has no axis).
+/// particles to place; none for a tube crushed axially whose section has no axis to revolve).
 fn reduced_model(spec: &CaseSpec) -> Option<Model> {
     if spec.discretization.model != Model::ThreeD || spec.trigger.weak_fraction > 0.0 {
         return None;
     }
-    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != SectionShape::Round {
+    if spec.loading.mode == LoadingMode::Axial && !CrossSection::of(&spec.tube).revolves() {
         return None;
     }
     Some(match spec.loading.mode {
@@ -157,8 +157,9 @@ fn reduced_model(spec: &CaseSpec) -> Option<Model> {
 
 /// What a run of `model` with `shape` can show of `spec`'s tube.
 fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
+    let section = CrossSection::of(&spec.tube);
     let mut s = match (model, spec.loading.mode) {
-        (Model::ThreeD, LoadingMode::Axial) if spec.tube.section == SectionShape::Rectangular => {
+        (Model::ThreeD, LoadingMode::Axial) if section.faces() > 0 => {
             "every mode: symmetric, asymmetric mixed, extensional, global bending, end effects"
         }
         (Model::ThreeD, LoadingMode::Axial) => {
@@ -169,7 +170,6 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
         (Model::PlaneStrain, _) => "the section's flattening only: no end effects",
     }
     .to_string();
-    let section = CrossSection::of(&spec.tube);
     if model == Model::ThreeD
         && shape == ShapeKind::Gimp
         && ugimp_may_tip_over(&section, spec.contact.friction)
@@ -182,8 +182,11 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
             spec.contact.friction
         ));
     }
-    if spec.tube.section == SectionShape::Rectangular {
-        s.push_str("; the error is not known (no convergence study of a rectangular tube yet)");
+    if !section.revolves() {
+        s.push_str(&format!(
+            "; the error is not known (no convergence study of a {} tube yet)",
+            section.name()
+        ));
     } else {
         match shape {
             ShapeKind::Linear => s.push_str(

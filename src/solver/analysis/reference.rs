@@ -14,17 +14,20 @@
 //! σy for a perfectly plastic wall such as the paper's PVC.
 //!
 //! A rectangular tube has its own ([`rectangular`]: Wierzbicki & Abramowicz, Abramowicz &
-//! Jones).
+//! Jones), and so has a hexagonal one ([`hexagonal`]: Euler's load and the squash load; no
+//! folding mean load).
 
+pub mod hexagonal;
 mod primary;
 pub mod rectangular;
 pub mod shell;
 pub mod shown;
 
+pub use hexagonal::HexagonalReferences;
 pub use primary::Primary;
 pub use rectangular::RectangularReferences;
 
-use crate::solver::model::case::{Case, CrossSection, LoadingMode};
+use crate::solver::model::case::{Case, CrossSection, LoadingMode, Outline};
 use crate::solver::model::material::given::FlowStresses;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -53,6 +56,7 @@ pub struct DiamondReference {
 pub enum References {
     Round(RoundReferences),
     Rectangular(RectangularReferences),
+    Hexagonal(HexagonalReferences),
 }
 
 impl Default for References {
@@ -67,6 +71,7 @@ impl References {
         match self {
             References::Round(r) => r.primary,
             References::Rectangular(r) => r.primary,
+            References::Hexagonal(r) => r.primary,
         }
     }
 
@@ -77,6 +82,7 @@ impl References {
         match self {
             References::Round(r) => r.primary_n,
             References::Rectangular(r) => r.primary_n,
+            References::Hexagonal(r) => r.primary_n,
         }
         .filter(|p| *p > 0.0)
     }
@@ -108,11 +114,11 @@ pub struct RoundReferences {
 /// Every reference load for `case`, from its cross-section.
 pub fn references(case: &Case) -> References {
     match case.geometry().section {
-        CrossSection::Round {
-            thickness_mm,
-            mean_diameter_mm,
-        } => References::Round(round(case, thickness_mm, mean_diameter_mm)),
+        CrossSection::Round(c) => {
+            References::Round(round(case, c.thickness_mm, c.mean_diameter_mm))
+        }
         CrossSection::Rectangular(r) => References::Rectangular(rectangular::references(case, &r)),
+        CrossSection::Hexagonal(h) => References::Hexagonal(hexagonal::references(case, &h)),
     }
 }
 

@@ -6,7 +6,7 @@
 
 use super::mode::{CollapseMode, ModeDetail};
 use super::reference::fold_length_mm;
-use crate::solver::model::case::{Case, LoadingMode, Model, ShapeKind};
+use crate::solver::model::case::{Case, LoadingMode, Model, Outline, ShapeKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 

@@ -3,7 +3,7 @@
 //! defaults resolved (the crush, the ramp, the shape functions: [`super::shape_policy`]) and its
 //! geometry ([`super::geometry`]). The rest of the solver trusts it.
 
-pub use super::geometry::{CrossSection, Geometry, Rectangle};
+pub use super::geometry::{Circle, CrossSection, Geometry, Outline, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
 pub use super::shape_policy::{
     is_thin, slenderness, ugimp_may_tip_over, ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T,

@@ -3,108 +3,19 @@
 //! collects every failure.
 
 use super::checker::Checker;
-use super::geometry::CrossSection;
+use super::geometry::{CrossSection, Outline};
 use super::material::checks as material_checks;
 use super::spec::{
     wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
-    Output, RateKind, SectionShape, Trigger, Tube, DEFAULT_MEAN_DIAMETER_MM, DEFAULT_RAMP_MM,
-    MAX_FRAMES, MAX_SERIES_PARTICLES,
+    Output, RateKind, Trigger, Tube, DEFAULT_RAMP_MM, MAX_FRAMES, MAX_SERIES_PARTICLES,
 };
 
-/// The tube: every length positive, the fields of its section and no other, the wall thinner
-/// than half the diameter (or the smaller side), a rectangle's corners within it.
+/// The tube: every length positive, then its section's fields ([`CrossSection::check`]: those
+/// of its shape and no other, the wall thinner than the section allows).
 pub(super) fn tube(c: &mut Checker, t: &Tube) {
     c.positive("tube.thickness_mm", t.thickness_mm);
     c.positive("tube.length_mm", t.length_mm);
-    match t.section {
-        SectionShape::Round => round(c, t),
-        SectionShape::Rectangular => rectangular(c, t),
-    }
-}
-
-/// A round tube: a positive diameter more than twice the wall, no rectangle's lengths.
-fn round(c: &mut Checker, t: &Tube) {
-    for (field, given) in [
-        ("tube.side_a_mm", t.side_a_mm),
-        ("tube.side_b_mm", t.side_b_mm),
-        ("tube.corner_radius_mm", t.corner_radius_mm),
-    ] {
-        if given.is_some() {
-            c.fail(
-                field,
-                "applies to a rectangular section only (tube.section is round)",
-            );
-        }
-    }
-    let d = t.mean_diameter_mm.unwrap_or(DEFAULT_MEAN_DIAMETER_MM);
-    c.positive("tube.mean_diameter_mm", d);
-    if t.thickness_mm.is_finite() && d.is_finite() && t.thickness_mm >= d / 2.0 {
-        c.fail(
-            "tube.thickness_mm",
-            "must be < mean_diameter_mm / 2 (the wall would close the bore)",
-        );
-    }
-}
-
-/// A rectangular tube: side a given, the sides positive and more than twice the wall, the
-/// corner radius from t/2 (a sharp inner corner) to half the smaller side, no diameter.
-fn rectangular(c: &mut Checker, t: &Tube) {
-    if t.mean_diameter_mm.is_some() {
-        c.fail(
-            "tube.mean_diameter_mm",
-            "applies to a round section only (tube.section is rectangular: its sides are \
-             side_a_mm and side_b_mm)",
-        );
-    }
-    match t.side_a_mm {
-        None => c.fail("tube.side_a_mm", "is required for a rectangular section"),
-        Some(a) => c.positive("tube.side_a_mm", a),
-    }
-    if let Some(b) = t.side_b_mm {
-        c.positive("tube.side_b_mm", b);
-    }
-    let CrossSection::Rectangular(r) = CrossSection::of(t) else {
-        unreachable!("a rectangular tube has a rectangular cross-section")
-    };
-    let fine = |v: f64| v.is_finite() && v > 0.0;
-    let smaller = r.side_a_mm.min(r.side_b_mm);
-    if !(fine(r.thickness_mm) && fine(r.side_a_mm) && fine(r.side_b_mm)) {
-        return;
-    }
-    if r.thickness_mm >= smaller / 2.0 {
-        c.fail(
-            "tube.thickness_mm",
-            &format!(
-                "must be < half the smaller side, min(side_a_mm, side_b_mm) / 2 = {smaller_half} \
-                 mm (the wall would close the bore)",
-                smaller_half = smaller / 2.0
-            ),
-        );
-        return;
-    }
-    if let Some(radius) = t.corner_radius_mm {
-        let field = "tube.corner_radius_mm";
-        if !radius.is_finite() || radius < r.thickness_mm / 2.0 {
-            c.fail(
-                field,
-                &format!(
-                    "must be at least thickness_mm / 2 = {} mm (the radius of the wall's \
-                     mid-line at a corner: below it the inner surface's corner would have a \
-                     negative radius)",
-                    r.thickness_mm / 2.0
-                ),
-            );
-        } else if radius > smaller / 2.0 {
-            c.fail(
-                field,
-                &format!(
-                    "must be at most half the smaller side, min(side_a_mm, side_b_mm) / 2 = {} \
-                     mm (the corners would overlap)",
-                    smaller / 2.0
-                ),
-            );
-        }
-    }
+    CrossSection::check(c, t);
 }
 
 /// The material: positive moduli and density, a Poisson ratio below ½, a wave speed that
@@ -190,19 +101,15 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
             &format!("must be at most the crush distance ({crush} mm)"),
         );
     }
+    let section = CrossSection::of(t);
     let room = match l.mode {
         LoadingMode::Axial => t.length_mm,
-        LoadingMode::Lateral => CrossSection::of(t).bore_mm(),
+        LoadingMode::Lateral => section.bore_mm(),
     };
     if crush.is_finite() && room.is_finite() && crush >= 0.95 * room {
-        let what = match (l.mode, t.section) {
-            (LoadingMode::Axial, _) => "95 % of tube.length_mm",
-            (LoadingMode::Lateral, SectionShape::Round) => {
-                "95 % of the bore (mean_diameter_mm - thickness_mm)"
-            }
-            (LoadingMode::Lateral, SectionShape::Rectangular) => {
-                "95 % of the bore between the plates (side_b_mm - thickness_mm)"
-            }
+        let what = match l.mode {
+            LoadingMode::Axial => "95 % of tube.length_mm".to_string(),
+            LoadingMode::Lateral => format!("95 % of {}", section.bore_formula()),
         };
         c.fail(
             "loading.crush_distance_mm",
@@ -251,11 +158,15 @@ pub(super) fn discretization(c: &mut Checker, spec: &CaseSpec) {
             ),
         );
     }
-    if d.model == Model::Axisymmetric && spec.tube.section != SectionShape::Round {
-        let reason = "axisymmetric needs a round tube: a rectangular section has no axis of \
-                      symmetry to revolve about (use model 3d)";
-        c.fail("discretization.model", reason);
-        c.fail("tube.section", reason);
+    let section = CrossSection::of(&spec.tube);
+    if d.model == Model::Axisymmetric && !section.revolves() {
+        let reason = format!(
+            "axisymmetric needs a round tube: a {} section has no axis of symmetry to revolve \
+             about (use model 3d)",
+            section.name()
+        );
+        c.fail("discretization.model", &reason);
+        c.fail("tube.section", &reason);
     }
     match (d.model, l.mode) {
         (Model::Axisymmetric, LoadingMode::Lateral) => c.fail(

@@ -3,9 +3,9 @@
 //! that drives it most first, with its value and the cost it would have at its default.
 
 use super::checker::Checker;
-use super::geometry::Geometry;
+use super::geometry::{Geometry, Outline};
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
-use super::spec::{run_wave_speed_m_s, CaseSpec, SectionShape};
+use super::spec::{run_wave_speed_m_s, CaseSpec};
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
 /// least one per history row.
@@ -23,37 +23,6 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     } else {
         // The run ends each history interval on a step of its own.
         steps.ceil().max(spec.output.history_points as f64).max(1.0)
-    }
-}
-
-/// Fields that set the particle count of a round tube.
-pub(super) const PARTICLE_FIELDS: &[&str] = &[
-    "tube.thickness_mm",
-    "tube.mean_diameter_mm",
-    "tube.length_mm",
-    "discretization.particles_through_thickness",
-];
-
-/// Fields that set the particle count of a rectangular tube.
-pub(super) const RECTANGULAR_PARTICLE_FIELDS: &[&str] = &[
-    "tube.thickness_mm",
-    "tube.side_a_mm",
-    "tube.side_b_mm",
-    "tube.length_mm",
-    "discretization.particles_through_thickness",
-];
-
-/// The fields that set a section's particle count, and how the count grows with them.
-fn particle_fields(section: SectionShape) -> (&'static [&'static str], &'static str) {
-    match section {
-        SectionShape::Round => (
-            PARTICLE_FIELDS,
-            "mean_diameter_mm · length_mm · n² / thickness_mm²",
-        ),
-        SectionShape::Rectangular => (
-            RECTANGULAR_PARTICLE_FIELDS,
-            "(side_a_mm + side_b_mm) · length_mm · n² / thickness_mm²",
-        ),
     }
 }
 
@@ -197,7 +166,7 @@ impl Checker {
         limits: &Limits,
     ) -> (Option<u64>, Option<u64>) {
         let max_particles = limits.max_particles.min(PARTICLE_ID_LIMIT);
-        let (particle_fields, grows) = particle_fields(spec.tube.section);
+        let (particle_fields, grows) = geometry.section.particle_fields();
         let particles = geometry.count_f64();
         let particles = if particles.is_finite() && particles <= max_particles as f64 {
             Some(geometry.count())

@@ -1,9 +1,11 @@
-//! The tube's geometry, owned in one place. Its cross-section ([`CrossSection`]: the wall's
-//! shape and thickness, and the wall-line metric the analysis reads a deformed tube with) and,
-//! with the length, the particles through the wall, the model and the loading direction, the
-//! particle lattice ([`Geometry`]): every particle's centre and volume, the one exact particle
-//! count, where the plates start and the box the particles must stay in. Everything after the
-//! scene reads the geometry from here, never from raw t and d. Units: mm, mm³.
+//! The tube's geometry, owned in one place. Its cross-section ([`CrossSection`], which answers
+//! every question of [`Outline`]: the wall's shape and thickness, the layers of its lattice, and
+//! the wall-line metric the analysis reads a deformed tube with; one file per shape, [`round`],
+//! [`rectangle`] and [`hexagon`]) and, with the length, the particles through the wall, the model and the
+//! loading direction, the particle lattice ([`Geometry`]): every particle's centre and volume,
+//! the one exact particle count, where the plates start and the box the particles must stay in.
+//! Everything after the scene reads the geometry from here, never from raw t and d, and asks the
+//! section rather than matching its shape. Units: mm, mm³.
 //!
 //! Frames: axial loading puts the tube axis on z (bottom plate at z = 0); lateral loading puts
 //! it on x over 0..l, centred on y = z = 0, with the plates normal to z. The reduced models lay
@@ -12,160 +14,22 @@
 //! strain, x and z are the cross-section's y and z, each particle standing for the tube's length
 //! (volume area·l).
 
-mod rectangle;
+mod cross_section;
+pub mod hexagon;
+pub mod outline;
+pub mod rectangle;
+pub mod round;
 
+pub use cross_section::CrossSection;
+pub use hexagon::Hexagon;
+pub use outline::Outline;
 pub use rectangle::Rectangle;
+pub use round::Circle;
 
-use super::spec::{CaseSpec, LoadingMode, Model, SectionShape, Tube, DEFAULT_MEAN_DIAMETER_MM};
+use super::spec::{CaseSpec, LoadingMode, Model};
 use crate::solver::Real;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
-
-/// The tube's cross-section.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum CrossSection {
-    /// A round tube of wall thickness t and mean diameter d (at the wall's mid-surface).
-    Round {
-        thickness_mm: Real,
-        mean_diameter_mm: Real,
-    },
-    /// A rectangular tube with rounded corners ([`Rectangle`]).
-    Rectangular(Rectangle),
-}
-
-impl CrossSection {
-    /// The cross-section a tube's spec describes, its omitted lengths filled in: a round
-    /// tube's diameter, a rectangular one's side b (= a) and corner radius (= t). A length
-    /// that is required and missing reads NaN: the checks name it.
-    pub fn of(tube: &Tube) -> CrossSection {
-        let t = tube.thickness_mm;
-        match tube.section {
-            SectionShape::Round => CrossSection::Round {
-                thickness_mm: t,
-                mean_diameter_mm: tube.mean_diameter_mm.unwrap_or(DEFAULT_MEAN_DIAMETER_MM),
-            },
-            SectionShape::Rectangular => {
-                let a = tube.side_a_mm.unwrap_or(Real::NAN);
-                CrossSection::Rectangular(Rectangle {
-                    thickness_mm: t,
-                    side_a_mm: a,
-                    side_b_mm: tube.side_b_mm.unwrap_or(a),
-                    corner_radius_mm: tube.corner_radius_mm.unwrap_or(t),
-                })
-            }
-        }
-    }
-
-    /// The wall thickness t, mm.
-    pub fn thickness_mm(&self) -> Real {
-        match *self {
-            CrossSection::Round { thickness_mm, .. } => thickness_mm,
-            CrossSection::Rectangular(r) => r.thickness_mm,
-        }
-    }
-
-    /// The size across the section at the wall's mid-surface, mm: a round tube's mean diameter
-    /// d, a rectangular one's larger side. The scale a sideways drift of the tube is measured
-    /// against, and the wall's slenderness with t.
-    pub fn width_mm(&self) -> Real {
-        match *self {
-            CrossSection::Round {
-                mean_diameter_mm, ..
-            } => mean_diameter_mm,
-            CrossSection::Rectangular(r) => r.side_a_mm.max(r.side_b_mm),
-        }
-    }
-
-    /// The name of [`CrossSection::width_mm`] in a slenderness ratio: `d` or `b`.
-    pub fn width_symbol(&self) -> &'static str {
-        match self {
-            CrossSection::Round { .. } => "d",
-            CrossSection::Rectangular(_) => "b",
-        }
-    }
-
-    /// From the centre to the undeformed outer surface, mm, as far as it goes: (d + t)/2 for a
-    /// round tube, half the larger outer side for a rectangular one.
-    pub fn outer_mm(&self) -> Real {
-        match *self {
-            CrossSection::Round {
-                thickness_mm: t,
-                mean_diameter_mm: d,
-            } => (d + t) / 2.0,
-            CrossSection::Rectangular(r) => {
-                let (a, b) = r.outer_half();
-                a.max(b)
-            }
-        }
-    }
-
-    /// From the centre to the outer surface along the plates' normal in a lateral crush, mm:
-    /// (d + t)/2, or (b + t)/2.
-    pub fn half_height_mm(&self) -> Real {
-        match *self {
-            CrossSection::Round { .. } => self.outer_mm(),
-            CrossSection::Rectangular(r) => r.outer_half().1,
-        }
-    }
-
-    /// The bore between the plates in a lateral crush, mm: d − t, or b − t.
-    pub fn bore_mm(&self) -> Real {
-        match *self {
-            CrossSection::Round {
-                thickness_mm: t,
-                mean_diameter_mm: d,
-            } => d - t,
-            CrossSection::Rectangular(r) => r.side_b_mm - r.thickness_mm,
-        }
-    }
-
-    /// The wall's cross-section area, mm²: π d t, or t times the mid-line's length.
-    pub fn area_mm2(&self) -> Real {
-        match *self {
-            CrossSection::Round {
-                thickness_mm: t,
-                mean_diameter_mm: d,
-            } => PI * d * t,
-            CrossSection::Rectangular(r) => r.area_mm2(),
-        }
-    }
-
-    /// The wall-line metric, around: where on the wall a point at (dx, dy) from the section's
-    /// centre lies, as an angle in (−π, π] (its polar angle, for a round tube; its nearest
-    /// mid-line point's share of the perimeter from the middle of the +x face, for a
-    /// rectangular one).
-    #[inline]
-    pub fn angle(&self, dx: Real, dy: Real) -> Real {
-        match self {
-            CrossSection::Round { .. } => dy.atan2(dx),
-            CrossSection::Rectangular(r) => r.angle(dx, dy),
-        }
-    }
-
-    /// The wall-line metric, out: how far from the section's centre a point at (dx, dy) lies,
-    /// measured along the wall's outward normal, mm: its radius, for a round tube; for a
-    /// rectangular one [`CrossSection::outer_mm`] plus its signed distance from the
-    /// undeformed outer surface (the distance from the centre, on the faces of a square).
-    /// Either way, the undeformed outer surface reads `outer_mm`.
-    #[inline]
-    pub fn reach(&self, dx: Real, dy: Real) -> Real {
-        match self {
-            CrossSection::Round { .. } => dx.hypot(dy),
-            CrossSection::Rectangular(r) => self.outer_mm() + r.beyond_outer(dx, dy),
-        }
-    }
-
-    /// The wall-line metric, faces: beside which face's middle half a point at (dx, dy) from
-    /// a rectangular section's centre lies, 0 to 3 anticlockwise from +x (None nearer a corner,
-    /// and always for a round section).
-    #[inline]
-    pub fn face(&self, dx: Real, dy: Real) -> Option<usize> {
-        match self {
-            CrossSection::Round { .. } => None,
-            CrossSection::Rectangular(r) => r.face(dx, dy),
-        }
-    }
-}
 
 /// The whole tube as the solver lays it out: its cross-section, length and particles through
 /// the wall, for a model and a loading direction.
@@ -214,25 +78,10 @@ impl Geometry {
 
     /// Particles around the wall, summed over the layers through it.
     fn around_all(&self) -> u64 {
-        let n = self.layers as u64;
-        match self.section {
-            CrossSection::Round {
-                thickness_mm: t,
-                mean_diameter_mm: d,
-            } => {
-                let h = t / n as f64;
-                let inner = d / 2.0 - t / 2.0;
-                (0..n)
-                    .map(|j| around(inner + (j as f64 + 0.5) * h, h))
-                    .sum::<u64>()
-            }
-            CrossSection::Rectangular(r) => {
-                let h = self.spacing_mm();
-                (0..self.layers)
-                    .map(|j| around_length(r.perimeter_at(offset(r.thickness_mm, h, j)), h))
-                    .sum::<u64>()
-            }
-        }
+        let h = self.spacing_mm();
+        (0..self.layers)
+            .map(|j| self.section.around(j, h))
+            .sum::<u64>()
     }
 
     /// The same count in floating point, for any geometry whose fields are finite and positive:
@@ -244,23 +93,9 @@ impl Geometry {
         let h = t / n;
         let axial = (self.length_mm / h).round().max(1.0);
         let around_all = || -> f64 {
-            match self.section {
-                CrossSection::Round {
-                    mean_diameter_mm: d,
-                    ..
-                } => {
-                    let inner = d / 2.0 - t / 2.0;
-                    (0..self.layers)
-                        .map(|j| {
-                            let r = inner + (j as f64 + 0.5) * h;
-                            (2.0 * PI * r / h).round().max(8.0)
-                        })
-                        .sum()
-                }
-                CrossSection::Rectangular(r) => (0..self.layers)
-                    .map(|j| (r.perimeter_at(offset(t, h, j)) / h).round().max(8.0))
-                    .sum(),
-            }
+            (0..self.layers)
+                .map(|j| self.section.around_f64(j, h))
+                .sum()
         };
         match self.model {
             Model::ThreeD => around_all() * axial,
@@ -385,18 +220,6 @@ impl Geometry {
         }
     }
 
-    /// t and d of the round tube. A rectangular section reads as the round tube of its
-    /// mid-line's length: only the axisymmetric model, which the checks refuse it, asks.
-    fn round(&self) -> (Real, Real) {
-        match self.section {
-            CrossSection::Round {
-                thickness_mm,
-                mean_diameter_mm,
-            } => (thickness_mm, mean_diameter_mm),
-            CrossSection::Rectangular(r) => (r.thickness_mm, r.perimeter_at(0.0) / PI),
-        }
-    }
-
     fn lattice(&self) -> Lattice {
         Lattice::new(&self.section, self.length_mm, self.layers)
     }
@@ -411,7 +234,7 @@ impl Geometry {
         let lattice = self.lattice();
         match self.model {
             Model::Axisymmetric => {
-                let (t, d) = self.round();
+                let (t, d) = self.section.revolved();
                 let h = t / n as Real;
                 let inner = d / 2.0 - t / 2.0;
                 (0..lattice.along)
@@ -448,15 +271,15 @@ impl Geometry {
 }
 
 /// The particle lattice of a tube's wall: `n` layers through the thickness at spacing h = t/n,
-/// round(l/h) along. A round tube's layer at mid-radius r holds round(2πr/h) particles around,
-/// each its exact annular sector, so the volumes add up to π d t l; a rectangular tube's layer
-/// at offset e from the mid-line holds round(P(e)/h) spread evenly along it, each h·P(e)/count
-/// times dz ([`Rectangle`]), so they add up to t·P(0)·l. Every layer holds at least 8.
+/// round(l/h) along; each layer as its cross-section lays it ([`Outline::ring`]: a round
+/// tube's at mid-radius r holds round(2πr/h) particles around, each its exact annular sector; a
+/// polygon's at offset e from the mid-line holds round(P(e)/h) spread evenly along it), so that
+/// the volumes add up to the wall's area times l. Every layer holds at least 8.
 struct Lattice {
     section: CrossSection,
-    /// Per layer: mid-radius (round) or offset from the mid-line (rectangular), mm; particles
-    /// around; volume of each, mm³.
-    rings: Vec<(Real, usize, Real)>,
+    /// Per layer: mid-radius (round) or offset from the mid-line, mm; particles around; volume
+    /// of each, mm³.
+    rings: Vec<outline::Ring>,
     along: usize,
     dz: Real,
 }
@@ -467,34 +290,7 @@ impl Lattice {
         let h = t / n as Real;
         let along = layers_along(l, h) as usize;
         let dz = l / along as Real;
-        let rings = match *section {
-            CrossSection::Round {
-                mean_diameter_mm: d,
-                ..
-            } => {
-                let inner = d / 2.0 - t / 2.0;
-                (0..n)
-                    .map(|j| {
-                        let (r0, r1) = (inner + j as Real * h, inner + (j + 1) as Real * h);
-                        let r = 0.5 * (r0 + r1);
-                        let count = around(r, h) as usize;
-                        (
-                            r,
-                            count,
-                            0.5 * (r1 * r1 - r0 * r0) * (2.0 * PI / count as Real) * dz,
-                        )
-                    })
-                    .collect()
-            }
-            CrossSection::Rectangular(rect) => (0..n)
-                .map(|j| {
-                    let e = offset(t, h, j);
-                    let length = rect.perimeter_at(e);
-                    let count = around_length(length, h) as usize;
-                    (e, count, h * length / count as Real * dz)
-                })
-                .collect(),
-        };
+        let rings = (0..n).map(|j| section.ring(j, h, dz)).collect();
         Lattice {
             section: *section,
             rings,
@@ -504,17 +300,8 @@ impl Lattice {
     }
 
     /// Particle `i` of a layer in the cross-section's own axes (u, v).
-    fn at(&self, &(place, count, _): &(Real, usize, Real), i: usize) -> (Real, Real) {
-        match self.section {
-            CrossSection::Round { .. } => {
-                let th = (i as Real + 0.5) * 2.0 * PI / count as Real;
-                (place * th.cos(), place * th.sin())
-            }
-            CrossSection::Rectangular(rect) => {
-                let step = rect.perimeter_at(place) / count as Real;
-                rect.point_at(place, (i as Real + 0.5) * step)
-            }
-        }
+    fn at(&self, ring: &outline::Ring, i: usize) -> (Real, Real) {
+        self.section.point(ring, i)
     }
 
     /// Each particle's centre and volume, axial position outermost, then layer, then around.
@@ -533,21 +320,6 @@ impl Lattice {
             })
         })
     }
-}
-
-/// The offset from the mid-line of layer `j` through a wall t thick at spacing h, mm.
-fn offset(t: Real, h: Real, j: u32) -> Real {
-    -0.5 * t + (j as Real + 0.5) * h
-}
-
-/// Particles along a curve of this length at spacing h (at least 8).
-fn around_length(length: f64, h: f64) -> u64 {
-    ((length / h).round() as u64).max(8)
-}
-
-/// Particles around a ring of radius r at spacing h (at least 8).
-fn around(r: f64, h: f64) -> u64 {
-    ((2.0 * PI * r / h).round() as u64).max(8)
 }
 
 /// Particle layers along a length at spacing h (at least 1).

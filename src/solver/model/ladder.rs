@@ -5,7 +5,8 @@
 //! that a case asking for an error bar is held, with its rungs, to the runner's limits before
 //! it runs.
 
-use super::spec::{CaseSpec, LoadingMode, Model, SectionShape, ShapeKind};
+use super::geometry::{CrossSection, Outline};
+use super::spec::{CaseSpec, LoadingMode, Model, ShapeKind};
 
 /// The coarsest rung of a ladder. The paper's section converges smoothly (order about 3) from
 /// n = 8 on, but not below: 13.648, 13.283 and 12.649 kN at n = 4, 6 and 8, where the steps
@@ -20,12 +21,13 @@ pub fn rungs(spec: &CaseSpec, shape: ShapeKind) -> Result<Vec<(u32, Option<CaseS
     let model = spec.discretization.model;
     let n = spec.discretization.particles_through_thickness;
     gimp_only(shape)?;
-    if spec.loading.mode == LoadingMode::Axial && spec.tube.section != SectionShape::Round {
-        return Err(
-            "a rectangular tube crushed axially has no section to climb (the section ladder \
-             runs the axisymmetric section, and a rectangle has no axis of symmetry)"
-                .into(),
-        );
+    let section = CrossSection::of(&spec.tube);
+    if spec.loading.mode == LoadingMode::Axial && !section.revolves() {
+        return Err(format!(
+            "a {} tube crushed axially has no section to climb (the section ladder runs the \
+             axisymmetric section, and only a round tube has an axis of symmetry)",
+            section.name()
+        ));
     }
     let twin_model = match spec.loading.mode {
         LoadingMode::Axial => Model::Axisymmetric,

@@ -1,7 +1,7 @@
 //! The shape-function policy: which shape functions a case that names none runs with, and why
 //! (`docs/studies.md` §5, "Which shape function for which wall").
 
-use super::geometry::CrossSection;
+use super::geometry::{CrossSection, Outline};
 use super::spec::{Model, ShapeKind};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};

@@ -60,14 +60,24 @@ pub enum SectionShape {
     Round,
     /// A rectangle of sides a × b with rounded corners (a square when a = b).
     Rectangular,
+    /// A regular hexagon of side s with rounded corners.
+    Hexagonal,
 }
 
 impl SectionShape {
+    /// Every shape, in the schema's order.
+    pub const ALL: [SectionShape; 3] = [
+        SectionShape::Round,
+        SectionShape::Rectangular,
+        SectionShape::Hexagonal,
+    ];
+
     /// The name a case uses.
     pub fn name(self) -> &'static str {
         match self {
             SectionShape::Round => "round",
             SectionShape::Rectangular => "rectangular",
+            SectionShape::Hexagonal => "hexagonal",
         }
     }
 }
@@ -76,18 +86,19 @@ impl SectionShape {
 pub const DEFAULT_MEAN_DIAMETER_MM: f64 = 22.2;
 
 /// The tube. Lengths of the cross-section are measured at the wall's mid-surface. A round tube
-/// has a mean diameter; a rectangular one sides a and b and a corner radius, and no diameter.
+/// has a mean diameter; a rectangular one sides a and b and a corner radius, and no diameter; a
+/// hexagonal one a side and a corner radius.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Tube {
     /// The cross-section's shape.
     #[schemars(
         title = "Cross-section",
-        description = "round: a circle of mean diameter d. rectangular: sides a × b with rounded corners (a square when b is empty)."
+        description = "round: a circle of mean diameter d. rectangular: sides a × b with rounded corners (a square when b is empty). hexagonal: a regular hexagon of side s with rounded corners, two flats facing the plates of a lateral crush."
     )]
     pub section: SectionShape,
     /// Wall thickness t.
-    #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter (round), less than the corner radius's double and the smaller side's half (rectangular).", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    #[schemars(title = "Wall thickness t", description = "Less than half the mean diameter (round), less than the corner radius's double and the smaller side's half (rectangular), less than the corner radius's double and half the width across the flats (hexagonal).", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub thickness_mm: f64,
     /// Round: mean diameter d, at the wall's mid-surface. Omitted: [`DEFAULT_MEAN_DIAMETER_MM`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -106,11 +117,31 @@ pub struct Tube {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(title = "Side b", description = "Rectangular tubes: the side along y (between the plates in a lateral crush), at the wall's mid-surface. Empty: side a, a square tube.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub side_b_mm: Option<f64>,
-    /// Rectangular: radius r of the corners of the wall's mid-line, from t/2 (a sharp inner
-    /// corner) to half the smaller side. Omitted: t.
+    /// Rectangular and hexagonal: radius r of the corners of the wall's mid-line, from t/2 (a
+    /// sharp inner corner) to half the smaller side (rectangular) or half the width across the
+    /// flats (hexagonal). Omitted: t.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schemars(title = "Corner radius r", description = "Rectangular tubes: the radius of the corners of the wall's mid-line, from t/2 (a sharp inner corner) to half the smaller side. Empty: t.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    #[schemars(title = "Corner radius r", description = "Rectangular and hexagonal tubes: the radius of the corners of the wall's mid-line, from t/2 (a sharp inner corner) to half the smaller side (rectangular) or half the width across the flats, side · √3 / 2 (hexagonal). Empty: t.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
     pub corner_radius_mm: Option<f64>,
+    /// Hexagonal: side s of the wall's mid-line hexagon, corner to corner with the corners
+    /// sharp. Required for a hexagonal section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "Hexagon side s", description = "Hexagonal tubes: the side of the wall's mid-line hexagon, corner to corner as if the corners were sharp; the width across the flats is s · √3. Required for them.", extend("x-unit" = "mm", "exclusiveMinimum" = 0))]
+    pub side_mm: Option<f64>,
+}
+
+impl Tube {
+    /// The lengths that belong to one shape of section or another, by field, as given (`None`
+    /// where omitted): the checks refuse those of another shape than the tube's.
+    pub fn section_lengths(&self) -> [(&'static str, Option<f64>); 5] {
+        [
+            ("tube.mean_diameter_mm", self.mean_diameter_mm),
+            ("tube.side_a_mm", self.side_a_mm),
+            ("tube.side_b_mm", self.side_b_mm),
+            ("tube.corner_radius_mm", self.corner_radius_mm),
+            ("tube.side_mm", self.side_mm),
+        ]
+    }
 }
 
 impl Default for Tube {
@@ -123,6 +154,7 @@ impl Default for Tube {
             side_a_mm: None,
             side_b_mm: None,
             corner_radius_mm: None,
+            side_mm: None,
         }
     }
 }
@@ -516,6 +548,7 @@ pub fn full_case() -> CaseSpec {
     full.tube.side_a_mm = Some(0.0);
     full.tube.side_b_mm = Some(0.0);
     full.tube.corner_radius_mm = Some(0.0);
+    full.tube.side_mm = Some(0.0);
     full.material = Material {
         preset: Some(Preset::Pvc),
         hardening: HardeningKind::Table,

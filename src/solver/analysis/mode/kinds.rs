@@ -1,4 +1,4 @@
-//! The collapse modes a tube's final shape is named by, and a rectangular tube's folded slices
+//! The collapse modes a tube's final shape is named by, and a polygonal tube's folded slices
 //! counted by what their faces show. Units: none (names and counts).
 //!
 //! A leaf of the mode's folder: imports nothing of the analysis.
@@ -22,13 +22,14 @@ pub enum CollapseMode {
     /// straight, and an end left its plate (it stands on the edge of its ring, or the tube lies
     /// on its side).
     TippedOver,
-    /// A rectangular tube's layers of lobes each fold two opposite faces out and the other two
-    /// in (Wierzbicki & Abramowicz's symmetric mode).
+    /// A polygonal tube's layers of lobes each fold neighbouring faces opposite ways and faces
+    /// two apart alike: a square's two opposite faces out and the other two in (Wierzbicki &
+    /// Abramowicz's symmetric mode), a hexagon's alternate faces.
     Symmetric,
-    /// A rectangular tube's layers fold three faces out and one in, or the like, among
-    /// symmetric ones (Abramowicz & Jones's asymmetric mixed modes).
+    /// A polygonal tube's layers fold in other patterns (a square's three faces out and one in,
+    /// or the like) among symmetric ones (Abramowicz & Jones's asymmetric mixed modes).
     AsymmetricMixed,
-    /// A rectangular tube's faces fold out together (the extensional mode of thick walls).
+    /// A polygonal tube's faces fold out together (the extensional mode of thick walls).
     Extensional,
 }
 
@@ -49,14 +50,14 @@ impl CollapseMode {
     }
 }
 
-/// A rectangular tube's folded slices, by what their faces show.
+/// A polygonal tube's folded slices, by what their faces show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct FaceLayers {
-    /// Opposite faces alike, neighbours unlike.
+    /// Faces two apart alike, neighbours unlike.
     pub symmetric: u32,
-    /// Any other pattern but all four alike.
+    /// Any other pattern but all faces alike.
     pub asymmetric: u32,
-    /// All four faces out (or in) together.
+    /// Every face out (or in) together.
     pub extensional: u32,
 }
 

@@ -6,9 +6,10 @@
 //! the column buckled, so that this file sits below the mode's.
 
 use super::{References, RoundReferences, DIAMOND_LOBES};
-use crate::solver::model::case::{Case, LoadingMode};
+use crate::solver::model::case::{Case, LoadingMode, Outline};
 use crate::solver::model::spec::RateKind;
 
+use super::hexagonal::HexagonalReferences;
 use super::rectangular::RectangularReferences;
 
 /// A closed form that fits the scene.
@@ -69,6 +70,11 @@ pub fn fitting(case: &Case, references: &References, seen: Seen) -> Fitting {
         References::Rectangular(_) => f.left_out.push(LeftOut {
             name: "every closed form",
             why: "none covers a rectangular tube crushed laterally".into(),
+        }),
+        References::Hexagonal(r) if axial => hexagonal_axial(r, seen, &mut f),
+        References::Hexagonal(_) => f.left_out.push(LeftOut {
+            name: "every closed form",
+            why: "none covers a hexagonal tube crushed laterally".into(),
         }),
     }
     f
@@ -219,6 +225,31 @@ fn rectangular_axial(case: &Case, r: &RectangularReferences, seen: Seen, f: &mut
         primary: false,
     });
     euler(r.euler_clamped_n, r.abramowicz_jones_n, seen, f);
+}
+
+/// A hexagonal tube crushed axially: no folding mean load to show; Euler's load where it
+/// could undercut the squash load, which bounds any folding load from above.
+fn hexagonal_axial(r: &HexagonalReferences, seen: Seen, f: &mut Fitting) {
+    f.left_out.push(LeftOut {
+        name: "a folding mean load",
+        why: "no closed form here covers a hexagonal tube's folds: the superfolding \
+              element's coefficients for a 120° corner are not checked against their source"
+            .into(),
+    });
+    // No folding load to weigh Euler's against: the squash load stands above any.
+    if seen.buckled || r.euler_clamped_n < EULER_COMPETES * r.squash_n {
+        euler(r.euler_clamped_n, r.squash_n, seen, f);
+    } else {
+        f.left_out.push(LeftOut {
+            name: "Euler, clamped ends",
+            why: format!(
+                "{:.0} kN, {:.0} times the squash load σ0·A, which no folding load exceeds: the \
+                 column folds before it could buckle",
+                r.euler_clamped_n / 1000.0,
+                r.euler_clamped_n / r.squash_n
+            ),
+        });
+    }
 }
 
 /// A form times the rate law's factor, or why there is none.

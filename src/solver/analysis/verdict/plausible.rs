@@ -2,7 +2,7 @@
 //! d/t, length over width l/d), and, when they are not, the unit slip — metres, inches or
 //! micrometres typed into a millimetre field — that would bring them back. Lengths in mm.
 
-use crate::solver::model::geometry::CrossSection;
+use crate::solver::model::geometry::{CrossSection, Outline};
 
 /// The thinnest wall, mm: half the 0.1 mm wall of a drinks can, the thinnest tube crushed in
 /// the literature; the examples' thinnest is 0.76 mm. A thickness in metres typed as mm (3.2 mm as
@@ -92,10 +92,7 @@ pub fn check(section: &CrossSection, length_mm: f64) -> Option<Implausible> {
     if out.is_empty() {
         return None;
     }
-    let width = match section {
-        CrossSection::Round { .. } => "mean diameter",
-        CrossSection::Rectangular(_) => "larger side",
-    };
+    let width = section.width_name();
     let slip = SLIPS.iter().find_map(|&(factor, typed)| {
         let scaled = |which: usize| {
             let mut s = given;

@@ -1,7 +1,8 @@
 //! The checks of a case, field by field, and its cost against the limits.
 
 use super::*;
-use crate::solver::model::cost::{PARTICLE_FIELDS, STEP_FIELDS};
+use crate::solver::model::cost::STEP_FIELDS;
+use crate::solver::model::geometry::round::PARTICLE_FIELDS;
 
 /// A tube of wall t and diameter d with the given discretization JSON, checked.
 fn tube_case(t: f64, d: f64, discretization: &str) -> Case {

@@ -11,10 +11,17 @@
 //!
 //! The wall-line metric reads a point (u, v) by the nearest point of the undeformed mid-line:
 //! where around the wall it lies (its arc length, as an angle) and which face it is on; and how
-//! far out it is, by the signed distance from the undeformed outer surface.
+//! far out it is, by the signed distance from the undeformed outer surface. Its folds are read
+//! face by face (four faces).
 
+use super::outline::{around_length, offset, Outline, Ring};
+use crate::solver::model::checker::Checker;
+use crate::solver::model::spec::Tube;
 use crate::solver::Real;
 use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The fields of a rectangular tube's own.
+pub const FIELDS: &[&str] = &["tube.side_a_mm", "tube.side_b_mm", "tube.corner_radius_mm"];
 
 /// The cross-section of a rectangular tube with rounded corners.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,6 +37,71 @@ pub struct Rectangle {
 }
 
 impl Rectangle {
+    /// The rectangle a tube's spec describes, its omitted lengths filled in: side b (= a) and
+    /// corner radius (= t). A missing side a reads NaN: the checks name it.
+    pub fn of(tube: &Tube) -> Rectangle {
+        let t = tube.thickness_mm;
+        let a = tube.side_a_mm.unwrap_or(Real::NAN);
+        Rectangle {
+            thickness_mm: t,
+            side_a_mm: a,
+            side_b_mm: tube.side_b_mm.unwrap_or(a),
+            corner_radius_mm: tube.corner_radius_mm.unwrap_or(t),
+        }
+    }
+
+    /// A rectangular tube's own checks: side a given, the sides positive and more than twice
+    /// the wall, the corner radius from t/2 (a sharp inner corner) to half the smaller side.
+    pub(in crate::solver::model) fn check(c: &mut Checker, t: &Tube) {
+        match t.side_a_mm {
+            None => c.fail("tube.side_a_mm", "is required for a rectangular section"),
+            Some(a) => c.positive("tube.side_a_mm", a),
+        }
+        if let Some(b) = t.side_b_mm {
+            c.positive("tube.side_b_mm", b);
+        }
+        let r = Rectangle::of(t);
+        let fine = |v: f64| v.is_finite() && v > 0.0;
+        let smaller = r.side_a_mm.min(r.side_b_mm);
+        if !(fine(r.thickness_mm) && fine(r.side_a_mm) && fine(r.side_b_mm)) {
+            return;
+        }
+        if r.thickness_mm >= smaller / 2.0 {
+            c.fail(
+                "tube.thickness_mm",
+                &format!(
+                    "must be < half the smaller side, min(side_a_mm, side_b_mm) / 2 = \
+                     {smaller_half} mm (the wall would close the bore)",
+                    smaller_half = smaller / 2.0
+                ),
+            );
+            return;
+        }
+        if let Some(radius) = t.corner_radius_mm {
+            let field = "tube.corner_radius_mm";
+            if !radius.is_finite() || radius < r.thickness_mm / 2.0 {
+                c.fail(
+                    field,
+                    &format!(
+                        "must be at least thickness_mm / 2 = {} mm (the radius of the wall's \
+                         mid-line at a corner: below it the inner surface's corner would have a \
+                         negative radius)",
+                        r.thickness_mm / 2.0
+                    ),
+                );
+            } else if radius > smaller / 2.0 {
+                c.fail(
+                    field,
+                    &format!(
+                        "must be at most half the smaller side, min(side_a_mm, side_b_mm) / 2 = \
+                         {} mm (the corners would overlap)",
+                        smaller / 2.0
+                    ),
+                );
+            }
+        }
+    }
+
     /// The straight flats' lengths, (a − 2r, b − 2r).
     fn flats(&self) -> (Real, Real) {
         let r = self.corner_radius_mm;
@@ -171,6 +243,123 @@ impl Rectangle {
         let (qx, qy) = (u.abs() - cu, v.abs() - cv);
         let outside = qx.max(0.0).hypot(qy.max(0.0));
         outside + qx.max(qy).min(0.0) - (self.corner_radius_mm + 0.5 * self.thickness_mm)
+    }
+}
+
+impl Outline for Rectangle {
+    fn name(&self) -> &'static str {
+        "rectangular"
+    }
+
+    fn thickness_mm(&self) -> Real {
+        self.thickness_mm
+    }
+
+    /// The larger side.
+    fn width_mm(&self) -> Real {
+        self.side_a_mm.max(self.side_b_mm)
+    }
+
+    fn width_symbol(&self) -> &'static str {
+        "b"
+    }
+
+    fn width_name(&self) -> &'static str {
+        "larger side"
+    }
+
+    /// Half the larger outer side.
+    fn outer_mm(&self) -> Real {
+        let (a, b) = self.outer_half();
+        a.max(b)
+    }
+
+    /// (b + t)/2.
+    fn half_height_mm(&self) -> Real {
+        self.outer_half().1
+    }
+
+    /// b − t.
+    fn bore_mm(&self) -> Real {
+        self.side_b_mm - self.thickness_mm
+    }
+
+    fn bore_formula(&self) -> &'static str {
+        "the bore between the plates (side_b_mm - thickness_mm)"
+    }
+
+    /// t·P(0).
+    fn area_mm2(&self) -> Real {
+        Rectangle::area_mm2(self)
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "t {} mm, {} x {} mm, corner r {} mm",
+            self.thickness_mm, self.side_a_mm, self.side_b_mm, self.corner_radius_mm
+        )
+    }
+
+    fn revolved(&self) -> (Real, Real) {
+        (self.thickness_mm, self.perimeter_at(0.0) / PI)
+    }
+
+    fn around(&self, j: u32, h: Real) -> u64 {
+        around_length(self.perimeter_at(offset(self.thickness_mm, h, j)), h)
+    }
+
+    fn around_f64(&self, j: u32, h: Real) -> f64 {
+        (self.perimeter_at(offset(self.thickness_mm, h, j)) / h)
+            .round()
+            .max(8.0)
+    }
+
+    /// The curve at offset e, round(P(e)/h) particles spread evenly along it, each h·P(e)/count
+    /// times dz.
+    fn ring(&self, j: u32, h: Real, dz: Real) -> Ring {
+        let e = offset(self.thickness_mm, h, j);
+        let length = self.perimeter_at(e);
+        let count = around_length(length, h) as usize;
+        (e, count, h * length / count as Real * dz)
+    }
+
+    fn point(&self, &(e, count, _): &Ring, i: usize) -> (Real, Real) {
+        let step = self.perimeter_at(e) / count as Real;
+        self.point_at(e, (i as Real + 0.5) * step)
+    }
+
+    #[inline]
+    fn angle(&self, dx: Real, dy: Real) -> Real {
+        Rectangle::angle(self, dx, dy)
+    }
+
+    /// [`Outline::outer_mm`] plus the signed distance from the undeformed outer surface (the
+    /// distance from the centre, on the faces of a square).
+    #[inline]
+    fn reach(&self, dx: Real, dy: Real) -> Real {
+        Outline::outer_mm(self) + self.beyond_outer(dx, dy)
+    }
+
+    #[inline]
+    fn face(&self, dx: Real, dy: Real) -> Option<usize> {
+        Rectangle::face(self, dx, dy)
+    }
+
+    fn faces(&self) -> usize {
+        4
+    }
+
+    fn particle_fields(&self) -> (&'static [&'static str], &'static str) {
+        (
+            &[
+                "tube.thickness_mm",
+                "tube.side_a_mm",
+                "tube.side_b_mm",
+                "tube.length_mm",
+                "discretization.particles_through_thickness",
+            ],
+            "(side_a_mm + side_b_mm) · length_mm · n² / thickness_mm²",
+        )
     }
 }
 

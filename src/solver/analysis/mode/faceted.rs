@@ -1,14 +1,16 @@
-//! The collapse mode of a rectangular tube crushed axially, from how its faces fold
-//! ([`crate::solver::analysis::faces`]). Units: mm.
+//! The collapse mode of a polygonal tube crushed axially (a rectangle's four faces, a
+//! hexagon's six), from how its faces fold ([`crate::solver::analysis::faces`]). Units: mm.
 //!
 //! Abramowicz & Jones (1984) name the progressive modes of square tubes by their layers of
 //! lobes: in the **symmetric** mode (Wierzbicki & Abramowicz's) every layer folds two opposite
 //! faces out and the other two in; in the **asymmetric mixed** modes some layers fold three
 //! faces out and one in (or the like) among symmetric ones, and the column leans; in the
-//! **extensional** mode, of thick walls, every face folds out together. Each folded slice is
-//! read by the signs of its faces' displacements: a face that moved less than
-//! [`FLAT_SHARE`] of the slice's largest counts as flat; four faces out (or in) together are
-//! extensional, opposite faces alike and neighbours unlike symmetric, anything else
+//! **extensional** mode, of thick walls, every face folds out together. A polygon of an even
+//! number of faces reads the same way: a symmetric layer folds neighbouring faces opposite ways
+//! and faces two apart alike (a hexagon's alternate faces out, the others in). Each folded
+//! slice is read by the signs of its faces' displacements: a face that moved less than
+//! [`FLAT_SHARE`] of the slice's largest counts as flat; every face out (or in) together is
+//! extensional, neighbours unlike and faces two apart alike symmetric, anything else
 //! asymmetric. The tube is extensional when at least [`EXTENSIONAL_SHARE`] of its folded
 //! slices are, asymmetric mixed when at least [`ASYMMETRIC_SHARE`] are asymmetric, and
 //! symmetric otherwise. Global bending is the round tube's global buckling, judged by the
@@ -41,36 +43,38 @@ enum Layer {
     Extensional,
 }
 
-/// The pattern of one slice's four faces (in face order around the tube).
-fn layer(w: [Real; 4]) -> Layer {
+/// The pattern of one slice's faces (in face order around the tube; at least two).
+fn layer(w: &[Real]) -> Layer {
     let largest = w.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
-    let sign = w.map(|v| match v {
-        v if v >= FLAT_SHARE * largest => 1,
-        v if v <= -FLAT_SHARE * largest => -1,
-        _ => 0,
-    });
+    let sign: Vec<i8> = w
+        .iter()
+        .map(|&v| match v {
+            v if v >= FLAT_SHARE * largest => 1,
+            v if v <= -FLAT_SHARE * largest => -1,
+            _ => 0,
+        })
+        .collect();
+    let k = sign.len();
     if sign.iter().all(|&s| s == sign[0] && s != 0) {
         Layer::Extensional
-    } else if sign[0] == sign[2] && sign[1] == sign[3] && sign[0] != sign[1] {
+    } else if (0..k).all(|i| sign[i] == sign[(i + 2) % k]) && sign[0] != sign[1] {
         Layer::Symmetric
     } else {
         Layer::Asymmetric
     }
 }
 
-/// The mode of an axially crushed rectangular tube that did not bend over as a whole, from its
+/// The mode of an axially crushed polygonal tube that did not bend over as a whole, from its
 /// face slices, of which those whose RMS displacement is below `folded_min_mm` are not folded;
 /// the counts behind it; and why.
 pub(super) fn decide(
     slices: &[FaceSlice],
     folded_min_mm: Real,
 ) -> (CollapseMode, FaceLayers, String) {
-    let whole: Vec<(&FaceSlice, [Real; 4])> = slices
+    let whole: Vec<(&FaceSlice, Vec<Real>)> = slices
         .iter()
-        .filter_map(|s| match s.w {
-            [Some(a), Some(b), Some(c), Some(d)] => Some((s, [a, b, c, d])),
-            _ => None,
-        })
+        .filter_map(|s| Some((s, s.w.iter().copied().collect::<Option<Vec<Real>>>()?)))
+        .filter(|(_, w)| w.len() >= 2)
         .collect();
     let max_rms = whole.iter().map(|(s, _)| s.rms).fold(0.0, Real::max);
     let mut counts = FaceLayers::default();
@@ -78,7 +82,7 @@ pub(super) fn decide(
         .iter()
         .filter(|(s, _)| s.rms >= (FOLDED_FRACTION * max_rms).max(folded_min_mm))
     {
-        match layer(*w) {
+        match layer(w) {
             Layer::Symmetric => counts.symmetric += 1,
             Layer::Asymmetric => counts.asymmetric += 1,
             Layer::Extensional => counts.extensional += 1,
@@ -120,13 +124,17 @@ mod tests {
 
     #[test]
     fn a_slices_faces_give_its_pattern() {
-        assert_eq!(layer([3.0, -2.0, 2.5, -3.0]), Layer::Symmetric);
+        assert_eq!(layer(&[3.0, -2.0, 2.5, -3.0]), Layer::Symmetric);
         // A neighbour pair barely moving still reads symmetric.
-        assert_eq!(layer([3.0, 0.2, 2.5, -0.1]), Layer::Symmetric);
-        assert_eq!(layer([3.0, 2.0, 2.5, 1.0]), Layer::Extensional);
-        assert_eq!(layer([-3.0, -2.0, -2.5, -1.0]), Layer::Extensional);
-        assert_eq!(layer([3.0, 2.0, 2.5, -3.0]), Layer::Asymmetric);
-        assert_eq!(layer([3.0, 0.0, -2.5, 0.0]), Layer::Asymmetric);
+        assert_eq!(layer(&[3.0, 0.2, 2.5, -0.1]), Layer::Symmetric);
+        assert_eq!(layer(&[3.0, 2.0, 2.5, 1.0]), Layer::Extensional);
+        assert_eq!(layer(&[-3.0, -2.0, -2.5, -1.0]), Layer::Extensional);
+        assert_eq!(layer(&[3.0, 2.0, 2.5, -3.0]), Layer::Asymmetric);
+        assert_eq!(layer(&[3.0, 0.0, -2.5, 0.0]), Layer::Asymmetric);
+        // Six faces: alternate faces out and in is symmetric; two neighbours alike is not.
+        assert_eq!(layer(&[2.0, -2.0, 2.5, -1.5, 2.0, -2.0]), Layer::Symmetric);
+        assert_eq!(layer(&[2.0, 2.0, -2.5, 1.5, -2.0, -2.0]), Layer::Asymmetric);
+        assert_eq!(layer(&[2.0; 6]), Layer::Extensional);
     }
 
     /// Layers of lobes 15 mm of wall each over the 60 mm tube, 6 mm deep; `pattern(layer)`
