@@ -33,6 +33,12 @@ pub const NEAR_FACTOR: f64 = 1.25;
 /// errors guide it too; the study has no run past n = 6 to say more.
 pub const THIN_D_OVER_T: f64 = 44.8 / 3.2;
 
+/// The d/t of the thinner wall studied in 3D (t 1.27, d 20.32 mm, docs/studies.md §10): its
+/// uGIMP mean load rose 3 % from n = 2 to 3 and 20 % from n = 3 to 4, so it has no converged
+/// value, and the d/t 14 tube's errors do not guide it. A wall nearer it than the d/t 14 tube
+/// (d/t above the midpoint, 15) has no measured guide.
+pub const UNCONVERGED_D_OVER_T: f64 = 20.32 / 1.27;
+
 /// A run's expected error: its size where a study guides it, and what it is based on, or why
 /// there is none.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -117,6 +123,14 @@ fn guiding_wall(case: &Case, shape: ShapeKind) -> Result<Wall, String> {
     let near = |studied: f64| (studied / NEAR_FACTOR..=studied * NEAR_FACTOR).contains(&d_over_t);
     let wall = match (near(STUDIED_D_OVER_T), near(THIN_D_OVER_T)) {
         (true, _) => Wall::Thick,
+        (_, true) if d_over_t > 0.5 * (THIN_D_OVER_T + UNCONVERGED_D_OVER_T) => {
+            return Err(format!(
+                "d/t {d_over_t:.1} is nearer the t 1.27 d 20.32 tube (d/t {:.0}) than the d/t 14 \
+                 one, and its 3D mean load rose 20 % from n = 3 to 4 with no converged value \
+                 (docs/studies.md §10); price this run's error bar (output.error_bar)",
+                UNCONVERGED_D_OVER_T
+            ))
+        }
         (_, true) => Wall::Thin,
         _ => {
             return Err(format!(
@@ -221,6 +235,26 @@ mod tests {
         assert!(d(10.0).is_none());
         assert!(d(5.6).is_some());
         assert!(d(5.4).is_none());
+    }
+
+    /// The paper's d/t 16 tube moved 20 % from n = 3 to 4: a wall nearer it than the d/t 14
+    /// tube borrows no figure from that one, and says why; one nearer the d/t 14 tube does.
+    #[test]
+    fn a_wall_nearer_the_unconverged_d_over_t_16_tube_has_no_measured_guide() {
+        let d = |d_over_t: f64| {
+            of_case(&case(&format!(
+                r#"{{"tube": {{"thickness_mm": 1.27, "mean_diameter_mm": {}, "length_mm": 76.2}},
+                    "contact": {{"friction": 0.3}},
+                    "discretization": {{"particles_through_thickness": 4, "shape": "gimp"}}}}"#,
+                1.27 * d_over_t
+            )))
+        };
+        let paper = d(20.32 / 1.27);
+        assert_eq!(paper.percent, None, "{paper:?}");
+        assert!(paper.basis.starts_with("no measured guide: "), "{paper:?}");
+        assert!(paper.basis.contains("§10"), "{paper:?}");
+        assert!(d(15.2).percent.is_none());
+        assert!(d(14.8).percent.is_some());
     }
 
     /// The d/t 14 wall reads the paper's 3D errors, in a 3D axial uGIMP run only: its section,
