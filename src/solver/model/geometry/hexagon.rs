@@ -17,7 +17,7 @@
 //! out it is by the signed distance from the undeformed outer surface. Its folds are read face
 //! by face (six faces).
 
-use super::outline::{around_length, offset, Outline, Ring};
+use super::outline::{OffsetCurves, Outline, Ring};
 use crate::solver::model::checker::Checker;
 use crate::solver::model::spec::Tube;
 use crate::solver::Real;
@@ -114,6 +114,17 @@ impl Hexagon {
     /// The corner arcs' centres' distance from the axis, c = (a − r)/cos 30°, mm.
     fn centre(&self) -> Real {
         (self.apothem() - self.corner_radius_mm) / HALF.cos()
+    }
+
+    /// Its lattice: the mid-line offset through the wall ([`OffsetCurves`]).
+    fn curves(
+        &self,
+    ) -> OffsetCurves<impl Fn(Real) -> Real + '_, impl Fn(Real, Real) -> (Real, Real) + '_> {
+        OffsetCurves {
+            thickness_mm: self.thickness_mm,
+            perimeter: |e| self.perimeter_at(e),
+            point_at: |e, s| self.point_at(e, s),
+        }
     }
 
     /// Length of the mid-line offset by `e` outward, P(e) = 6f + 2π(r + e), mm.
@@ -255,27 +266,19 @@ impl Outline for Hexagon {
     }
 
     fn around(&self, j: u32, h: Real) -> u64 {
-        around_length(self.perimeter_at(offset(self.thickness_mm, h, j)), h)
+        self.curves().around(j, h)
     }
 
     fn around_f64(&self, j: u32, h: Real) -> f64 {
-        (self.perimeter_at(offset(self.thickness_mm, h, j)) / h)
-            .round()
-            .max(8.0)
+        self.curves().around_f64(j, h)
     }
 
-    /// The curve at offset e, round(P(e)/h) particles spread evenly along it, each h·P(e)/count
-    /// times dz.
     fn ring(&self, j: u32, h: Real, dz: Real) -> Ring {
-        let e = offset(self.thickness_mm, h, j);
-        let length = self.perimeter_at(e);
-        let count = around_length(length, h) as usize;
-        (e, count, h * length / count as Real * dz)
+        self.curves().ring(j, h, dz)
     }
 
-    fn point(&self, &(e, count, _): &Ring, i: usize) -> (Real, Real) {
-        let step = self.perimeter_at(e) / count as Real;
-        self.point_at(e, (i as Real + 0.5) * step)
+    fn point(&self, ring: &Ring, i: usize) -> (Real, Real) {
+        self.curves().point(ring, i)
     }
 
     /// The nearest mid-line point's arc length from the corner at +u, as a share of the

@@ -108,3 +108,42 @@ pub(super) fn offset(t: Real, h: Real, j: u32) -> Real {
 pub(super) fn around_length(length: f64, h: f64) -> u64 {
     ((length / h).round() as u64).max(8)
 }
+
+/// The lattice of a section whose layers are its mid-line offset e through the wall (a polygon
+/// with rounded corners), given the curve's length P(e) (`perimeter`) and the point at arc
+/// length s along it (`point_at`): layer `j` of a wall t thick at spacing h is round(P(e)/h)
+/// particles spread evenly along its curve, each h·P(e)/count times dz. A band h thick about
+/// such a curve has area h·P(e) exactly, so the volumes are exact.
+pub(super) struct OffsetCurves<P, Q> {
+    pub thickness_mm: Real,
+    pub perimeter: P,
+    pub point_at: Q,
+}
+
+impl<P: Fn(Real) -> Real, Q: Fn(Real, Real) -> (Real, Real)> OffsetCurves<P, Q> {
+    /// [`Outline::around`].
+    pub fn around(&self, j: u32, h: Real) -> u64 {
+        around_length((self.perimeter)(offset(self.thickness_mm, h, j)), h)
+    }
+
+    /// [`Outline::around_f64`].
+    pub fn around_f64(&self, j: u32, h: Real) -> f64 {
+        ((self.perimeter)(offset(self.thickness_mm, h, j)) / h)
+            .round()
+            .max(8.0)
+    }
+
+    /// [`Outline::ring`].
+    pub fn ring(&self, j: u32, h: Real, dz: Real) -> Ring {
+        let e = offset(self.thickness_mm, h, j);
+        let length = (self.perimeter)(e);
+        let count = around_length(length, h) as usize;
+        (e, count, h * length / count as Real * dz)
+    }
+
+    /// [`Outline::point`].
+    pub fn point(&self, &(e, count, _): &Ring, i: usize) -> (Real, Real) {
+        let step = (self.perimeter)(e) / count as Real;
+        (self.point_at)(e, (i as Real + 0.5) * step)
+    }
+}
