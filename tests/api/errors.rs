@@ -394,8 +394,8 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
             p["detail"].as_str().unwrap().contains("limit of 100000"),
             "{p}"
         );
-        // The default case: 33 155 particles × 15 687 steps = 5.2e8 particle-steps, under
-        // 1e9; at n = 6 (examples/axial_t3.2.json), 112 112 × 23 531 = 2.6e9, over.
+        // The default case: 33 155 particles × 15 844 steps = 5.3e8 particle-steps, under
+        // 1e9; at n = 6 (examples/axial_t3.2.json), 112 112 × 23 766 = 2.7e9, over.
         let fine = json!({"discretization": {"particles_through_thickness": 6}});
         let p = problem(c.post(app.at(route)).json(&fine).send().await.unwrap(), 422).await;
         assert!(
@@ -404,7 +404,7 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
         );
     }
     let estimate = app.estimate(&json!({})).await;
-    assert_eq!(estimate["steps"], 15687, "{estimate}");
+    assert_eq!(estimate["steps"], 15844, "{estimate}");
     // The default case (axial, no trigger) qualifies for the axisymmetric model: the estimate
     // says what it would cost and what it cannot show; a triggered case does not qualify.
     let reduced = &estimate["reduced"];
@@ -470,7 +470,7 @@ async fn a_thickness_in_metres_is_refused_naming_it_and_its_estimate_names_the_s
         assert_eq!(fields(&p)[0], "tube.thickness_mm", "{p}");
         let lead = p["errors"][0]["reason"].as_str().unwrap();
         assert!(
-            lead.starts_with("0.0032 mm gives 15686990 time steps"),
+            lead.starts_with("0.0032 mm gives 15843860 time steps"),
             "{p}"
         );
     }

@@ -269,7 +269,7 @@ fn run_refuses_a_case_past_the_servers_cost_limits_unless_told_no_limits() {
     assert!(!out.status.success(), "{stderr}");
     let first = stderr.lines().nth(1).unwrap_or_default();
     assert!(
-        first.starts_with("  tube.thickness_mm: 0.0032 mm gives 15686990 time steps"),
+        first.starts_with("  tube.thickness_mm: 0.0032 mm gives 15843860 time steps"),
         "{stderr}"
     );
     assert!(stderr.contains("pass --no-limits"), "{stderr}");

@@ -265,3 +265,30 @@ fn a_thin_tube_on_a_rough_platen_closes_its_books_when_the_remaps_catch_reaches_
     let e = &s.energy;
     assert!(e.contact_mj > 0.0 && e.friction_mj > 0.0, "{e:?}");
 }
+
+/// What broke: the step count a case expects (the estimate's, the limits') left out the start
+/// ramp, over which the plate's speed rises linearly from 0, so the ramp's travel takes twice
+/// as long as at full speed: with a ramp of half the crush the run took 1.5 times the steps
+/// counted. The count is at the initial time step, which an elastic ring on frictionless
+/// plates keeps within a fraction of a per cent (its particles stay far slower than the
+/// 2 400 m/s wave), so 1 % holds it; and the run ends each of its history rows on a step of its
+/// own, which can add one step per row.
+#[test]
+fn a_long_start_ramp_is_counted_in_the_steps_a_case_expects() {
+    let rows = 20;
+    let text = format!(
+        r#"{{"tube": {{"thickness_mm": 3.2, "mean_diameter_mm": 22.2, "length_mm": 20}},
+            "material": {{"model": "elastic"}},
+            "loading": {{"crush_distance_mm": 0.4, "ramp_mm": 0.2}},
+            "contact": {{"friction": 0}},
+            "discretization": {{"particles_through_thickness": 4, "model": "axisymmetric"}},
+            "output": {{"history_points": {rows}}}}}"#
+    );
+    let case = Case::from_json(&text, &Limits::default()).unwrap();
+    let out = run(&case, &mut (), &AtomicBool::new(false)).unwrap();
+    let (expected, taken) = (case.step_count() as f64, out.summary.cost.steps as f64);
+    assert!(
+        taken >= 0.99 * expected && taken <= 1.01 * expected + rows as f64,
+        "the case expected {expected} steps, the run took {taken} ({rows} history rows)"
+    );
+}

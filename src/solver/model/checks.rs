@@ -7,7 +7,7 @@ use super::geometry::{CrossSection, Outline};
 use super::material::checks as material_checks;
 use super::spec::{
     wave_speed_m_s, CaseSpec, Contact, HardeningKind, LoadingMode, Material, MaterialModel, Model,
-    Output, RateKind, Trigger, Tube, DEFAULT_RAMP_MM, MAX_FRAMES, MAX_SERIES_PARTICLES,
+    Output, RateKind, Trigger, Tube, MAX_FRAMES, MAX_SERIES_PARTICLES,
 };
 
 /// The tube: every length positive, then its section's fields ([`CrossSection::check`]: those
@@ -92,7 +92,7 @@ pub(super) fn loading(c: &mut Checker, spec: &CaseSpec) -> (f64, f64) {
         }
     }
     c.positive("loading.crush_distance_mm", crush);
-    let ramp = l.ramp_mm.unwrap_or(DEFAULT_RAMP_MM.min(0.5 * crush));
+    let ramp = l.ramp_or_default_mm(crush);
     if !(ramp.is_finite() && ramp >= 0.0) {
         c.fail("loading.ramp_mm", "must be a finite number >= 0");
     } else if crush.is_finite() && ramp > crush {

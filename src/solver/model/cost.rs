@@ -8,14 +8,23 @@ use super::limits::{Limits, PARTICLE_ID_LIMIT};
 use super::spec::{run_wave_speed_m_s, CaseSpec};
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
-/// least one per history row.
+/// least one per history row. The plate takes (crush + ramp) / v to crush: over the start
+/// ramp its speed rises linearly from 0, so the ramp's travel takes twice as long as at full
+/// speed.
 fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     let d = &spec.discretization;
     let cell =
         spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
     let speed = spec.loading.plate_speed_m_s;
     let dt_ms = d.cfl * cell / (run_wave_speed_m_s(spec) + speed);
-    let steps = crush_mm / speed / dt_ms;
+    // A ramp the checks refuse (negative, past the crush, not a number) is held to [0, crush]
+    // here: its own error names it.
+    let ramp = spec
+        .loading
+        .ramp_or_default_mm(crush_mm)
+        .min(crush_mm)
+        .max(0.0);
+    let steps = (crush_mm + ramp) / speed / dt_ms;
     // At least one: a crush of 5e-324 mm underflows to no steps at all; and 0 / 0 (the same
     // underflow over a Δt of 0) is too many, not one (both found by tests/solver/case_fuzz.rs).
     if steps.is_nan() {
@@ -195,9 +204,9 @@ impl Checker {
                 &steps_f64,
                 "time steps",
                 &format!(
-                    ", more than this runner's limit of {} (steps = crush distance / plate speed \
-                     / Δt, Δt = cfl · cell / (wave speed + plate speed), cell = k · thickness / \
-                     n)",
+                    ", more than this runner's limit of {} (steps = (crush distance + start \
+                     ramp) / plate speed / Δt, Δt = cfl · cell / (wave speed + plate speed), \
+                     cell = k · thickness / n)",
                     limits.max_steps
                 ),
             );

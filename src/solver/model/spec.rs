@@ -205,6 +205,12 @@ pub struct Loading {
 pub const DEFAULT_RAMP_MM: f64 = 0.5;
 
 impl Loading {
+    /// The start ramp's travel, or the default for a crush of `crush_mm` when the case names
+    /// none, mm: [`DEFAULT_RAMP_MM`], or half the crush if that is less.
+    pub fn ramp_or_default_mm(&self, crush_mm: f64) -> f64 {
+        self.ramp_mm.unwrap_or(DEFAULT_RAMP_MM.min(0.5 * crush_mm))
+    }
+
     /// The speed whose strain rates the material sees, m/s: the test's where the case gives
     /// one, else the plate's.
     pub fn material_speed_m_s(&self) -> f64 {

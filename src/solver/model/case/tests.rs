@@ -718,11 +718,11 @@ fn a_cost_over_its_limit_names_the_field_that_drives_it_first_with_its_value() {
     assert_eq!(errors[0].field, "tube.thickness_mm", "{errors:?}");
     let lead = &errors[0].reason;
     assert!(
-        lead.starts_with("0.0032 mm gives 15686990 time steps, more than this runner's limit"),
+        lead.starts_with("0.0032 mm gives 15843860 time steps, more than this runner's limit"),
         "{lead}"
     );
     assert!(
-        lead.contains("at its default, 3.2 mm, they would be 15687"),
+        lead.contains("at its default, 3.2 mm, they would be 15844"),
         "{lead}"
     );
     // The other fields that set the steps are named once each, briefly.
@@ -744,7 +744,7 @@ fn a_cost_over_its_limit_names_the_field_that_drives_it_first_with_its_value() {
     assert!(
         errors[0]
             .reason
-            .contains("particle-steps (381000 particles × 15686990 time steps)"),
+            .contains("particle-steps (381000 particles × 15843860 time steps)"),
         "{errors:?}"
     );
     // A crawling plate leads the steps, a long tube the particles.
