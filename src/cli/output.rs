@@ -138,7 +138,7 @@ pub fn write_shape_png(path: &Path, case: &Case, snapshot: &Snapshot) -> anyhow:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::{CollapseMode, RunCost};
+    use crate::solver::CollapseMode;
 
     #[test]
     fn history_csv_has_the_header_and_every_row() {
@@ -182,23 +182,8 @@ mod tests {
             label: Some("t".into()),
             summary: Summary {
                 mean_load_n: 1.0,
-                peak_load_n: 2.0,
-                energy_absorbed_mj: 3.0,
-                crush_distance_mm: 3.0,
-                folds: 1,
-                load_drops: 0,
-                energy_balance_error: 0.0,
-                energy: Default::default(),
-                measures: Default::default(),
-                kinetic_to_internal: 0.0,
-                verdict: None,
-                error_bar: None,
-                expected_error: None,
-                longest_unloaded_mm: 0.0,
                 mode: CollapseMode::Diamond { lobes: 3 },
-                references: Default::default(),
-                cost: RunCost::default(),
-                shape: None,
+                ..crate::service::store::sample_summary()
             },
             mode_detail: ModeDetail::default(),
         };

@@ -19,9 +19,7 @@ pub fn format_report(case: &Case, s: &Summary, detail: &ModeDetail) -> String {
     // Writing to a String cannot fail; the results are ignored.
     let mut o = String::new();
     scene_lines(&mut o, case);
-    if let Some(v) = &s.verdict {
-        verdict_lines(&mut o, v, s);
-    }
+    verdict_lines(&mut o, &s.verdict, s);
     load_lines(&mut o, s);
     measure_lines(&mut o, s);
     mode_lines(&mut o, s, detail);
@@ -87,12 +85,11 @@ fn load_lines(o: &mut String, s: &Summary) {
     };
     let _ = writeln!(o, "  mean load        {}   ({against})", kn(s.mean_load_n));
     error_bar_lines(o, s);
-    if let Some(e) = &s.expected_error {
-        let size = e
-            .percent
-            .map_or_else(|| "none".to_string(), |p| format!("±{p:.1} %"));
-        let _ = writeln!(o, "  expected error   {size}   ({})", e.basis);
-    }
+    let e = &s.expected_error;
+    let size = e
+        .percent
+        .map_or_else(|| "none".to_string(), |p| format!("±{p:.1} %"));
+    let _ = writeln!(o, "  expected error   {size}   ({})", e.basis);
     let _ = writeln!(
         o,
         "  peak load        {}   (the largest, over the whole crush)",
@@ -311,9 +308,9 @@ fn verdict_line(v: &Verdict, s: &Summary) -> String {
         ),
         (
             _,
-            Some(ExpectedError {
+            ExpectedError {
                 percent: Some(p), ..
-            }),
+            },
         ) => {
             format!("expected within ±{p:.1} % of the converged mean load")
         }
@@ -435,6 +432,14 @@ mod tests {
     use crate::solver::{Limits, RunCost};
 
     fn summary(case: &Case, mean: f64, mode: CollapseMode) -> Summary {
+        let figures = crate::solver::analysis::verdict::RunFigures {
+            mode,
+            longest_unloaded_mm: 0.0,
+            energy_balance_error: 0.0123,
+            kinetic_to_internal: 0.004,
+        };
+        let verdict =
+            crate::solver::analysis::verdict::of_run(case, &figures, &ModeDetail::default());
         Summary {
             mean_load_n: mean,
             peak_load_n: 15_200.0,
@@ -455,10 +460,10 @@ mod tests {
                 threads: 2,
                 ..Default::default()
             },
-            shape: Some(case.shape_choice().clone()),
-            verdict: None,
+            shape: case.shape_choice().clone(),
+            verdict,
             error_bar: None,
-            expected_error: None,
+            expected_error: crate::solver::analysis::expected::of_case(case),
         }
     }
 
@@ -542,11 +547,11 @@ mod tests {
         .unwrap();
         let mut s = summary(&case, 9_513.6, CollapseMode::Ring);
         s.energy_balance_error = 0.06;
-        s.verdict = Some(crate::solver::analysis::verdict::of_run(
+        s.verdict = crate::solver::analysis::verdict::of_run(
             &case,
             &s.verdict_figures(),
             &ModeDetail::default(),
-        ));
+        );
         let text = format_report(&case, &s, &ModeDetail::default());
         let verdict = text.find("  verdict          not_trusted\n").expect(&text);
         assert!(verdict < text.find("mean load").unwrap(), "{text}");

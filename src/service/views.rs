@@ -11,7 +11,7 @@ pub use sweep::{SweepListItem, SweepPage, SweepView};
 use formats::json;
 
 use super::hub::{final_id, Event};
-use super::store::{JobRecord, Status};
+use super::store::{JobRecord, Status, StoredSummary};
 use crate::solver::analysis::verdict::{self, Verdict};
 use crate::solver::{RunOutput, Summary};
 use schemars::JsonSchema;
@@ -81,7 +81,7 @@ pub struct JobView {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(with = "crate::solver::CaseSpec")]
     pub case: Option<Value>,
-    pub summary: Option<Summary>,
+    pub summary: Option<StoredSummary>,
     /// How far to trust the result: the summary's verdict, or not trusted for a run that failed
     /// on a blow-up; null while it runs and for a result stored before there were verdicts.
     pub verdict: Option<Verdict>,
@@ -258,14 +258,15 @@ mod tests {
         let mut s = crate::service::store::sample_summary();
         s.mode = crate::solver::CollapseMode::Diamond { lobes: 3 };
         assert_valid("Summary", &serde_json::to_value(&s).unwrap());
+        // And a summary as a row stored before verdicts, shape choices and expected errors.
         s.error_bar = None;
-        s.verdict = None;
-        s.shape = None;
         s.mode = crate::solver::CollapseMode::TippedOver;
-        assert_valid("Summary", &serde_json::to_value(&s).unwrap());
+        let mut older = StoredSummary::from(s);
+        (older.verdict, older.shape, older.expected_error) = (None, None, None);
+        assert_valid("Summary", &serde_json::to_value(&older).unwrap());
 
         let mut done = record(Status::Succeeded, None);
-        done.summary = Some(crate::service::store::sample_summary());
+        done.summary = Some(crate::service::store::sample_summary().into());
         done.progress_json = Some(
             r#"{"step":3,"time_ms":0.1,"displacement_mm":1.0,"load_n":2.0,"fraction":0.5,"elapsed_s":1.0,"eta_s":1.0}"#
                 .into(),
@@ -300,6 +301,26 @@ mod tests {
             JobView::new(&record(Status::Running, None), false).verdict,
             None
         );
+    }
+
+    #[test]
+    fn a_result_stored_before_verdicts_shows_its_summary_and_a_null_verdict() {
+        let mut done = record(Status::Succeeded, None);
+        let mut older = StoredSummary::from(crate::service::store::sample_summary());
+        older.verdict = None;
+        done.summary = Some(older);
+        let json = serde_json::to_value(JobView::new(&done, false)).unwrap();
+        assert_eq!(json["verdict"], Value::Null);
+        assert!(
+            json["summary"].get("verdict").is_none(),
+            "{}",
+            json["summary"]
+        );
+        assert_eq!(json["summary"]["folds"], 3);
+        done.summary = Some(crate::service::store::sample_summary().into());
+        let json = serde_json::to_value(JobView::new(&done, false)).unwrap();
+        assert_eq!(json["verdict"], json["summary"]["verdict"]);
+        assert!(json["verdict"]["level"].is_string());
     }
 
     #[test]

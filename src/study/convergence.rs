@@ -29,7 +29,7 @@ pub struct RunPoint {
 
 impl RunPoint {
     /// The point of a finished run with `n` particles through the wall, in `group`.
-    pub fn of(group: String, n: u32, s: &crate::solver::Summary) -> RunPoint {
+    pub fn of(group: String, n: u32, s: &super::Figures) -> RunPoint {
         RunPoint {
             group,
             n,
@@ -38,7 +38,7 @@ impl RunPoint {
             wall_time_s: s.cost.wall_time_s,
             mean_load_n: s.mean_load_n,
             peak_load_n: s.peak_load_n,
-            reference_n: s.references.primary_n(),
+            reference_n: s.reference_n,
         }
     }
 }

@@ -3,11 +3,11 @@
 //! one run's mode is one draw; the ensemble says how often each mode came out and how far the
 //! loads spread (mean, sample standard deviation, min, max; N, mJ).
 //!
-//! Pure analysis of finished runs' summaries, shared by the sweep table (a sweep that varies
-//! `trigger.seed`) and its CSV.
+//! Pure analysis of finished runs' figures ([`super::Figures`]), shared by the sweep table (a
+//! sweep that varies `trigger.seed`) and its CSV.
 
-use crate::solver::analysis::verdict::Level;
-use crate::solver::{CollapseMode, Summary};
+use super::Figures;
+use crate::solver::CollapseMode;
 use schemars::JsonSchema;
 use serde::Serialize;
 
@@ -71,8 +71,8 @@ pub struct Distribution {
 
 impl Distribution {
     /// The distribution of these runs; none for no runs.
-    pub fn of(runs: &[&Summary]) -> Option<Distribution> {
-        let figure = |f: fn(&Summary) -> f64| -> Vec<f64> { runs.iter().map(|s| f(s)).collect() };
+    pub fn of(runs: &[Figures]) -> Option<Distribution> {
+        let figure = |f: fn(&Figures) -> f64| -> Vec<f64> { runs.iter().map(f).collect() };
         let mean_load_n = Spread::of(&figure(|s| s.mean_load_n))?;
         let mut modes: Vec<ModeCount> = Vec::new();
         for s in runs {
@@ -96,14 +96,7 @@ impl Distribution {
             mean_load_n,
             peak_load_n: Spread::of(&figure(|s| s.peak_load_n))?,
             energy_absorbed_mj: Spread::of(&figure(|s| s.energy_absorbed_mj))?,
-            not_trusted_runs: runs
-                .iter()
-                .filter(|s| {
-                    s.verdict
-                        .as_ref()
-                        .is_some_and(|v| v.level == Level::NotTrusted)
-                })
-                .count(),
+            not_trusted_runs: runs.iter().filter(|s| s.not_trusted).count(),
         })
     }
 
@@ -130,13 +123,13 @@ mod tests {
     use super::*;
     use crate::solver::analysis::verdict::Verdict;
 
-    fn run(mean: f64, mode: CollapseMode) -> Summary {
+    fn run(mean: f64, mode: CollapseMode) -> Figures {
         let mut s = crate::service::store::sample_summary();
         s.mean_load_n = mean;
         s.peak_load_n = 2.0 * mean;
         s.energy_absorbed_mj = 50.0 * mean;
         s.mode = mode;
-        s
+        Figures::of(&s)
     }
 
     #[test]
@@ -154,15 +147,14 @@ mod tests {
     fn five_seeds_count_their_modes_most_frequent_first() {
         let three = CollapseMode::Diamond { lobes: 3 };
         let two = CollapseMode::Diamond { lobes: 2 };
-        let runs = [
+        let mut runs = vec![
             run(1000.0, three),
             run(1100.0, three),
             run(900.0, CollapseMode::GlobalBuckling),
             run(1200.0, two),
             run(1300.0, two),
         ];
-        let mut refs: Vec<&Summary> = runs.iter().collect();
-        let d = Distribution::of(&refs).unwrap();
+        let d = Distribution::of(&runs).unwrap();
         assert_eq!(d.runs, 5);
         assert_eq!(d.modes_line(), "diamond-3:2 diamond-2:2 global_buckling:1");
         assert_eq!(d.modes[0].share, 0.4);
@@ -171,10 +163,11 @@ mod tests {
         assert_eq!(d.peak_load_n.mean, 2200.0);
         assert_eq!(d.energy_absorbed_mj.max, 65_000.0);
         assert_eq!(d.not_trusted_runs, 0);
-        let mut blown = run(1.0e9, CollapseMode::Ring);
-        blown.verdict = Some(Verdict::unstable("a blow-up"));
-        refs.push(&blown);
-        assert_eq!(Distribution::of(&refs).unwrap().not_trusted_runs, 1);
+        let mut blown = crate::service::store::sample_summary();
+        blown.mean_load_n = 1.0e9;
+        blown.verdict = Verdict::unstable("a blow-up");
+        runs.push(Figures::of(&blown));
+        assert_eq!(Distribution::of(&runs).unwrap().not_trusted_runs, 1);
         assert_eq!(Distribution::of(&[]), None);
     }
 }

@@ -3,4 +3,7 @@
 
 pub mod convergence;
 pub mod ensemble;
+pub mod figures;
 pub mod step;
+
+pub use figures::Figures;

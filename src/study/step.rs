@@ -36,13 +36,13 @@ pub struct StepPoint {
 
 impl StepPoint {
     /// The point of a finished run at step `cfl`.
-    pub fn of(cfl: f64, s: &crate::solver::Summary) -> StepPoint {
+    pub fn of(cfl: f64, s: &super::Figures) -> StepPoint {
         StepPoint {
             cfl,
             steps: s.cost.steps,
             wall_time_s: s.cost.wall_time_s,
             mean_load_n: s.mean_load_n,
-            first_peak_n: s.measures.first_peak_load_n,
+            first_peak_n: s.first_peak_load_n,
             energy_balance_error: s.energy_balance_error,
             mode: s.mode,
             folds: s.folds,

@@ -9,6 +9,7 @@ use super::cases::{
 use crate::plot::{self, Series};
 use crate::solver::CollapseMode;
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint, TRUSTED_ORDERS};
+use crate::study::Figures;
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -56,7 +57,7 @@ pub fn run(args: ConvergenceArgs) -> anyhow::Result<()> {
             match run_case(&name, &case, threads)? {
                 Ok(done) => {
                     let s = &done.summary;
-                    points.push(RunPoint::of(shape.clone(), n, s));
+                    points.push(RunPoint::of(shape.clone(), n, &Figures::of(s)));
                     extra.push((shape.clone(), n, s.folds, mode_name(&s.mode)));
                     curves.push(done.load_curve(name.clone()));
                 }

@@ -9,6 +9,7 @@ use super::cases::{
 use crate::plot::{self, Series};
 use crate::study::ensemble::mode_label;
 use crate::study::step::{StepAnalysis, StepPoint, STEP_FIELD};
+use crate::study::Figures;
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -49,7 +50,7 @@ pub fn run(args: StepArgs) -> anyhow::Result<()> {
         let name = format!("cfl {cfl}");
         match run_case(&name, &case, threads)? {
             Ok(done) => {
-                points.push(StepPoint::of(cfl, &done.summary));
+                points.push(StepPoint::of(cfl, &Figures::of(&done.summary)));
                 curves.push(done.load_curve(name));
             }
             Err(Failed::Rejected(e)) => anyhow::bail!("{name}: the case was rejected: {e}"),

@@ -63,20 +63,16 @@ pub fn mode_text(m: &CollapseMode) -> String {
 
 /// The verdict's level, and its rules where it is not trusted.
 pub fn verdict_text(e: &Entry) -> String {
-    match &e.summary.verdict {
-        None => "–".into(),
-        Some(v) => {
-            let rules: Vec<&str> = v
-                .reasons
-                .iter()
-                .filter(|r| r.level != crate::solver::analysis::verdict::Level::Trusted)
-                .map(|r| r.rule.name())
-                .collect();
-            match rules.is_empty() {
-                true => v.level.name().to_string(),
-                false => format!("{} ({})", v.level.name(), rules.join(", ")),
-            }
-        }
+    let v = &e.summary.verdict;
+    let rules: Vec<&str> = v
+        .reasons
+        .iter()
+        .filter(|r| r.level != crate::solver::analysis::verdict::Level::Trusted)
+        .map(|r| r.rule.name())
+        .collect();
+    match rules.is_empty() {
+        true => v.level.name().to_string(),
+        false => format!("{} ({})", v.level.name(), rules.join(", ")),
     }
 }
 
@@ -86,8 +82,7 @@ pub fn error_bar_text(e: &Entry) -> String {
     let expected = e
         .summary
         .expected_error
-        .as_ref()
-        .and_then(|x| x.percent)
+        .percent
         .map(|p| format!("expected ±{p:.1} %"));
     match &e.summary.error_bar {
         Some(ErrorBar::ReducedLadder(l) | ErrorBar::ThreeDLadder(l)) => {

@@ -1,12 +1,12 @@
 //! The store's handle on its database: [`Store`] and how it opens either backend, its write
 //! transactions ([`WriteTx`]), what can go wrong ([`StoreError`], and when a connection is too
 //! old to trust after a failure), a job's [`Status`] and how a job row reads into a
-//! [`JobRecord`]. Times are unix milliseconds. Imports the backend and the database file of
-//! the store, nothing else of it; every other file of the store imports it.
+//! [`JobRecord`]. Times are unix milliseconds. Imports the backend, the database file and the
+//! stored summary of the store, nothing else of it; every other file of the store imports it.
 
 use super::backend::{self, Backend};
 use super::file;
-use crate::solver::Summary;
+use super::summary::StoredSummary;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sqlx::any::AnyPoolOptions;
@@ -135,9 +135,10 @@ pub struct JobRecord {
     pub checkpoint: Option<CheckpointMark>,
     /// The name of the token that submitted it; `None` without tokens.
     pub owner: Option<String>,
-    /// The run's summary, once it succeeded: read back typed, so that a field the solver
-    /// renames is a [`StoreError::Corrupt`] here, not a silent gap in the views.
-    pub summary: Option<Summary>,
+    /// The run's summary, once it succeeded: read back typed, in whichever version it was
+    /// stored, so that a field the solver renames is a [`StoreError::Corrupt`] here, not a
+    /// silent gap in the views.
+    pub summary: Option<StoredSummary>,
 }
 
 /// Where a job's checkpoint stands.
@@ -441,15 +442,10 @@ pub(super) fn job_from_row(row: &sqlx::any::AnyRow) -> Result<JobRecord> {
 }
 
 /// A stored summary's JSON, typed; a summary that does not read is corrupt, never zeros.
-fn read_summary(job: &str, text: Option<String>) -> Result<Option<Summary>> {
+fn read_summary(job: &str, text: Option<String>) -> Result<Option<StoredSummary>> {
     text.map(|t| {
-        serde_path_to_error::deserialize(&mut serde_json::Deserializer::from_str(&t)).map_err(|e| {
-            StoreError::Corrupt(format!(
-                "the summary of job {job} does not read at {}: {}",
-                e.path(),
-                e.inner()
-            ))
-        })
+        StoredSummary::read(&t)
+            .map_err(|why| StoreError::Corrupt(format!("the summary of job {job} {why}")))
     })
     .transpose()
 }

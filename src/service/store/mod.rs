@@ -16,6 +16,7 @@ mod lease;
 mod rates;
 mod removal;
 pub mod signals;
+mod summary;
 mod sweeps;
 
 pub use checkpoints::StoredCheckpoint;
@@ -28,6 +29,7 @@ pub use jobs::{CancelOutcome, ListFilter, NewJob, Submitted};
 pub use rates::RATE_JOBS_READ;
 pub use removal::{Deleted, Pruned};
 pub use signals::Signal;
+pub use summary::StoredSummary;
 pub use sweeps::{NewSweep, SweepFilter, SweepListed, SweepRecord, SweepSubmitted};
 
 /// A store on a fresh SQLite file, for tests; the folder holding it goes when the first is

@@ -88,7 +88,7 @@ mod tests {
         summary.cost.steps = 1000;
         summary.cost.wall_time_s = wall_time_s;
         summary.cost.threads = threads;
-        summary.shape.as_mut().unwrap().kind = shape;
+        summary.shape.kind = shape;
         let result = Succeeded {
             history: &[],
             summary: &summary,

@@ -3,11 +3,11 @@
 
 use super::formats::{json, key_without, rfc3339};
 use super::time_step::{time_steps, StepGroupView};
-use crate::service::store::{JobRecord, Status, SweepListed, SweepRecord};
-use crate::solver::Summary;
+use crate::service::store::{JobRecord, Status, StoredSummary, SweepListed, SweepRecord};
 use crate::study::convergence::{analyse, GroupAnalysis, RunPoint};
 use crate::study::ensemble::{Distribution, SEED_FIELD};
 use crate::study::step::STEP_FIELD;
+use crate::study::Figures;
 use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
@@ -82,7 +82,7 @@ impl TableNumber {
     }
 
     /// The column's value for a run with this summary.
-    pub fn of(self, s: &Summary) -> Value {
+    pub fn of(self, s: &StoredSummary) -> Value {
         match self {
             TableNumber::MeanLoad => s.mean_load_n.into(),
             TableNumber::PeakLoad => s.peak_load_n.into(),
@@ -267,10 +267,10 @@ fn ensembles(fields: &[String], jobs: &[JobRecord]) -> Vec<EnsembleGroup> {
     groups
         .into_iter()
         .map(|(group, members)| {
-            let done: Vec<&Summary> = members
+            let done: Vec<Figures> = members
                 .iter()
                 .filter(|j| j.status == Status::Succeeded)
-                .filter_map(|j| j.summary.as_ref())
+                .filter_map(|j| j.summary.as_ref().map(StoredSummary::figures))
                 .collect();
             EnsembleGroup {
                 group,
@@ -373,7 +373,7 @@ impl Convergence {
                 Some(RunPoint::of(
                     group_key(fields, &values),
                     values.get(RESOLUTION_FIELD)?.as_u64()? as u32,
-                    s,
+                    &s.figures(),
                 ))
             })
             .collect();
@@ -537,7 +537,7 @@ mod tests {
     #[test]
     fn every_sweep_table_number_is_the_summary_field_of_its_name() {
         // Distinct values everywhere, so that a column reading the wrong field shows.
-        let mut s = crate::service::store::sample_summary();
+        let mut s = StoredSummary::from(crate::service::store::sample_summary());
         s.cost.particle_steps_per_s = 8.25e6;
         s.cost.threads = 7;
         s.verdict = Some(crate::solver::analysis::verdict::Verdict::unstable(
@@ -555,8 +555,10 @@ mod tests {
 
     #[test]
     fn the_sweep_table_has_every_number_and_nulls_before_the_summary() {
-        let mut done = crate::service::store::sample_summary();
+        let mut done = StoredSummary::from(crate::service::store::sample_summary());
         done.cost.particle_steps_per_s = 8.25e6;
+        let mut older = done.clone();
+        older.verdict = None;
         let record = |status, summary| JobRecord {
             seq: 1,
             id: Uuid::new_v4(),
@@ -589,6 +591,7 @@ mod tests {
         let jobs = [
             record(Status::Succeeded, Some(done.clone())),
             record(Status::Queued, None),
+            record(Status::Succeeded, Some(older)),
         ];
         let view = SweepView::new(&sweep, &jobs);
         for n in TableNumber::ALL {
@@ -599,5 +602,10 @@ mod tests {
         assert_eq!(view.rows[0]["mean_load_n"], done.mean_load_n);
         assert_eq!(view.rows[0]["mode"], done.mode.kind());
         assert_eq!(view.rows[0]["particle_steps_per_s"], 8.25e6);
+        // A row stored before verdicts: its numbers, and null for its verdict.
+        assert!(view.rows[0]["verdict"].is_string());
+        assert_eq!(view.rows[2]["verdict"], Value::Null);
+        assert_eq!(view.rows[2]["verdict_reasons"], Value::Null);
+        assert_eq!(view.rows[2]["mean_load_n"], done.mean_load_n);
     }
 }

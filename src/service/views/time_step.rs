@@ -45,7 +45,7 @@ pub(super) fn time_steps(fields: &[String], jobs: &[JobRecord]) -> Vec<StepGroup
             .then_some(())
             .and(j.summary.as_ref())
             .zip(values.get(STEP_FIELD).and_then(Value::as_f64))
-            .map(|(s, cfl)| StepPoint::of(cfl, s));
+            .map(|(s, cfl)| StepPoint::of(cfl, &s.figures()));
         groups[index].1.extend(point);
     }
     groups

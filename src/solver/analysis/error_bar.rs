@@ -79,7 +79,6 @@ pub struct Ladder {
     pub covers: String,
     /// The first collapse peak's interval from the same rungs; null when the run or a rung
     /// has no first peak (its load never dropped).
-    #[serde(default)]
     pub first_peak: Option<PeakInterval>,
 }
 
@@ -106,7 +105,6 @@ pub struct Rung {
     pub n: u32,
     pub mean_load_n: f64,
     /// The rung's first collapse peak, N; null where its load never dropped.
-    #[serde(default)]
     pub first_peak_load_n: Option<f64>,
     pub wall_time_s: f64,
 }

@@ -12,7 +12,6 @@ use serde::{Deserialize, Serialize};
 
 /// The crash measures of a run (in the summary beside its mean and peak loads).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(default)]
 pub struct Measures {
     /// The tube's mass, g: ρ times the wall's volume π d t l (d the mean diameter).
     pub tube_mass_g: f64,

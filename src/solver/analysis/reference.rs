@@ -101,8 +101,7 @@ pub struct RoundReferences {
     pub deruntz_hodge_mean_n: Option<f64>,
     /// Euler load of the whole column with clamped ends, 4π² E I / l², N.
     pub euler_clamped_n: f64,
-    /// The round metal tube's axial closed forms (absent from summaries stored before them).
-    #[serde(default)]
+    /// The round metal tube's axial closed forms.
     pub metal: MetalTube,
     /// The reference a report compares the run's mean load with.
     pub primary: Primary,
@@ -170,12 +169,10 @@ fn round(case: &Case, t: f64, d: f64) -> RoundReferences {
 pub struct MetalTube {
     /// The flow stress σ0 both take, (σy + σu)/2, MPa.
     pub flow_stress_mpa: f64,
-    /// The yield stress σy, MPa (absent from summaries stored before it: 0).
-    #[serde(default)]
+    /// The yield stress σy, MPa.
     pub yield_stress_mpa: f64,
     /// The engineering ultimate stress σu of the static hardening curve, where a bar of it
-    /// necks, MPa (absent from summaries stored before it: 0).
-    #[serde(default)]
+    /// necks, MPa.
     pub ultimate_stress_mpa: f64,
     /// Abramowicz & Jones (1984): P = M0 (22.27 √(D/t) + 5.632) / (0.86 − 0.568 √(t/D)),
     /// M0 = (2/√3) σ0 t²/4: Alexander's ring mode with the fold's eccentricity, over the

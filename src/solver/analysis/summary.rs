@@ -33,16 +33,14 @@ pub struct Summary {
     pub folds: u32,
     /// Significant drops of the load on the moving plate (axial loading; 0 for lateral). In the
     /// diamond modes each lobe's peak shows here, about twice the folds.
-    #[serde(default)]
     pub load_drops: u32,
     /// |W_ext − (E_kin + E_int + W_fric + W_contact)| / max(W_ext, E_int), the largest over
     /// the run (see [`energy_balance_error`]).
     pub energy_balance_error: f64,
     /// Every term of the energy balance at the end of the run.
-    #[serde(default)]
     pub energy: EnergyBooks,
     /// Mass, specific energy absorption, first collapse peak, mean load after it, crush-force
-    /// efficiency, energy dissipated ([`Measures`]); absent from summaries stored before them.
+    /// efficiency, energy dissipated ([`Measures`]).
     #[serde(flatten)]
     pub measures: Measures,
     /// Largest E_kin / E_int over the second half of the crush (quasi-static check).
@@ -50,28 +48,22 @@ pub struct Summary {
     /// The longest stretch of plate travel over which the load on the moving plate stayed
     /// below `UNLOADED_FRACTION` of the peak load: the tube lost its hold on the plate (it
     /// tipped over, or floats between the plates), mm. See [`longest_unloaded_mm`].
-    #[serde(default)]
     pub longest_unloaded_mm: f64,
     pub mode: CollapseMode,
     pub references: References,
     pub cost: RunCost,
     /// The shape functions the run used, and why when the case left them to the default.
-    /// Absent only from summaries stored before the default depended on the wall.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub shape: Option<ShapeChoice>,
-    /// How far to trust the result, with every reason ([`super::verdict`]). Absent only from
-    /// summaries stored before there were verdicts.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub verdict: Option<Verdict>,
+    pub shape: ShapeChoice,
+    /// How far to trust the result, with every reason ([`super::verdict`]).
+    pub verdict: Verdict,
     /// The mean load's error bar ([`super::error_bar`]), when the caller priced it; absent
     /// when it was not asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_bar: Option<ErrorBar>,
     /// The error the mean load is expected to carry, from the convergence studies measured
     /// near this case, or why none guides it ([`super::expected`]): a guide at no cost, beside
-    /// the priced error bar. Absent only from summaries stored before it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub expected_error: Option<ExpectedError>,
+    /// the priced error bar.
+    pub expected_error: ExpectedError,
 }
 
 impl Summary {
@@ -114,7 +106,13 @@ pub fn summarize(
         0.0
     };
     let energy = history.last().map(EnergyBooks::of).unwrap_or_default();
-    let mut summary = Summary {
+    let figures = RunFigures {
+        mode,
+        longest_unloaded_mm: longest_unloaded_mm(history),
+        energy_balance_error: energy_balance_error(history),
+        kinetic_to_internal: kinetic_to_internal(history),
+    };
+    let summary = Summary {
         mean_load_n,
         peak_load_n: history.iter().map(|r| r.load_top_n).fold(0.0, f64::max),
         energy_absorbed_mj,
@@ -124,24 +122,19 @@ pub fn summarize(
             LoadingMode::Axial => count_load_drops(history),
             LoadingMode::Lateral => 0,
         },
-        energy_balance_error: energy_balance_error(history),
+        energy_balance_error: figures.energy_balance_error,
         energy,
         measures: Measures::of(case.spec(), history, mean_load_n, &energy),
-        kinetic_to_internal: kinetic_to_internal(history),
-        longest_unloaded_mm: longest_unloaded_mm(history),
+        kinetic_to_internal: figures.kinetic_to_internal,
+        longest_unloaded_mm: figures.longest_unloaded_mm,
         mode,
         references: references(case),
         cost,
-        shape: Some(case.shape_choice().clone()),
-        verdict: None,
+        shape: case.shape_choice().clone(),
+        verdict: verdict::of_run(case, &figures, &mode_detail),
         error_bar: None,
-        expected_error: Some(expected::of_case(case)),
+        expected_error: expected::of_case(case),
     };
-    summary.verdict = Some(verdict::of_run(
-        case,
-        &summary.verdict_figures(),
-        &mode_detail,
-    ));
     (summary, mode_detail)
 }
 
@@ -356,6 +349,40 @@ mod tests {
         );
         let (back_n, n) = (back.references.primary_n(), s.references.primary_n());
         assert!((back_n.unwrap() / n.unwrap() - 1.0).abs() < 1e-15);
+    }
+
+    /// A summary states what every run produces: JSON without one of the fields a run always
+    /// has is not a summary (a store that kept older versions reads them its own way).
+    #[test]
+    fn a_summary_without_a_field_every_run_has_does_not_read() {
+        let (s, _) = summarize(&case("{}"), &[], &Snapshot::default(), RunCost::default());
+        let full = serde_json::to_value(&s).unwrap();
+        let reads = |json: &serde_json::Value| serde_json::from_value::<Summary>(json.clone());
+        assert!(reads(&full).is_ok());
+        let fields = full.as_object().unwrap();
+        for key in [
+            "shape",
+            "verdict",
+            "expected_error",
+            "load_drops",
+            "tube_mass_g",
+        ] {
+            assert!(fields.contains_key(key), "{key}");
+        }
+        // Every field but the ones a run may leave empty (null: no first peak).
+        for (key, _) in fields.iter().filter(|(_, v)| !v.is_null()) {
+            let mut less = full.clone();
+            less.as_object_mut().unwrap().remove(key);
+            assert!(reads(&less).is_err(), "a summary without {key} read");
+        }
+        for key in ["yield_stress_mpa", "ultimate_stress_mpa"] {
+            let mut less = full.clone();
+            less["references"]["metal"]
+                .as_object_mut()
+                .unwrap()
+                .remove(key);
+            assert!(reads(&less).is_err(), "a summary without metal.{key} read");
+        }
     }
 
     fn case(json: &str) -> Case {

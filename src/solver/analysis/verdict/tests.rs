@@ -180,7 +180,7 @@ fn the_one_particle_8_mm_tube_crushed_1_mm_is_not_trusted_with_its_reasons() {
             "output": {"history_points": 20}}"#,
     );
     let out = run(&c, &mut (), &AtomicBool::new(false)).unwrap();
-    let v = out.summary.verdict.clone().unwrap();
+    let v = out.summary.verdict.clone();
     assert_eq!(v.level, Level::NotTrusted);
     let named: Vec<Rule> = v.reasons.iter().map(|r| r.rule).collect();
     for rule in [Rule::ThinResolution, Rule::TooShortToFold] {
