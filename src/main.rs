@@ -45,12 +45,30 @@ enum Command {
 /// a user's mistake is no place for a backtrace, even with `RUST_BACKTRACE` set. A bug still
 /// panics, with its backtrace.
 fn main() -> std::process::ExitCode {
-    match run(Cli::parse().command) {
+    let command = Cli::parse().command;
+    if !matches!(command, Command::Serve(_)) {
+        quiet_on_a_closed_pipe();
+    }
+    match run(command) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("Error: {e:#}");
             std::process::ExitCode::FAILURE
         }
+    }
+}
+
+/// A command whose reader stops early (`crush estimate case.json | head -2`) ends there, as
+/// command-line tools do, instead of panicking with a backtrace at its next line of output:
+/// the Rust runtime ignores SIGPIPE, so every write to the closed pipe fails and `println!`
+/// panics. The server keeps it ignored: a client that hangs up must cost one connection, not
+/// the process.
+fn quiet_on_a_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any thread starts; it restores the
+    // default disposition of one signal and touches no memory.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

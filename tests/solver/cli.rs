@@ -240,6 +240,33 @@ fn estimate_tells_the_cost_and_the_verdict_before_a_run_and_errors_carry_no_back
     }
 }
 
+/// What broke: `crush estimate case.json | head -1` panicked with a backtrace once `head` had
+/// its line and closed the pipe. Here the reader closes the pipe before the command writes at
+/// all: it ends quietly, killed by SIGPIPE as command-line tools are.
+#[cfg(unix)]
+#[test]
+fn a_reader_that_stops_early_ends_the_command_without_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_crush"))
+        .arg("estimate")
+        .arg(examples.join("axial_t3.2.json"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        out.status.success() || out.status.signal() == Some(libc::SIGPIPE),
+        "{:?}: {stderr}",
+        out.status
+    );
+}
+
 /// What broke: `crush run` started a case of 381 000 particles and 15.7 M steps (a thickness
 /// in metres typed as millimetres), roughly 316 hours, past every limit the server holds a
 /// case to. It refuses it naming the thickness first; `--no-limits` lifts the server's limits
