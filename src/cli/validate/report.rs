@@ -220,7 +220,10 @@ pub fn blocks(r: &Report) -> Vec<Block> {
     let groups = [
         (Group::Paper, "The seed paper"),
         (Group::Measured, "Measured tests"),
-        (Group::ThinWalls, "A thin wall converged in 3D"),
+        (
+            Group::ThinWalls,
+            "A thin wall in 3D: its error bars held to finer runs",
+        ),
     ];
     for (i, (group, title)) in groups.into_iter().enumerate() {
         let rows: Vec<&Row> = r.rows_of(group).collect();

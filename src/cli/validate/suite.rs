@@ -868,8 +868,8 @@ fn thin_walls(b: &mut Builder, profile: Profile) {
                 low: 0.95,
                 high: 1.05,
             },
-            "±5 %: settled at n 4, as the study found (the planner's n for a 5 % answer on \
-             this wall)",
+            "±5 %: n 4 and n 6 fold from the same end, as the study found (n 3 and 5 fold from \
+             both ends, 10 % higher: docs/studies.md §9)",
         );
     }
     b.figure(

@@ -27,10 +27,11 @@ pub const STUDIED_D_OVER_T: f64 = 22.2 / 3.2;
 /// studies of thinner walls are stored beside it.
 pub const NEAR_FACTOR: f64 = 1.25;
 
-/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/studies.md §9). Its
-/// uGIMP mean load fell 9.8 % from n = 3 to 6 and changed 0.2 % from n = 4 to 6, within what
-/// the paper's tube's 3D errors (17.0, 11.6 and 6.3 % at n = 3, 4 and 6) allow, so those
-/// errors guide it too; the study has no run past n = 6 to say more.
+/// The d/t of the thin wall studied in 3D (t 3.2, d 44.8 mm, docs/studies.md §9). Its uGIMP
+/// mean load alternates with the parity of n through n = 6: 17.10 and 17.20 kN at n = 3 and 5,
+/// where the tube folds from both ends, 15.54 and 15.57 kN at n = 4 and 6, where it folds from
+/// the fixed end. With no converged value there is no error to expect, so a wall near it has
+/// no measured guide, and the reason says why.
 pub const THIN_D_OVER_T: f64 = 44.8 / 3.2;
 
 /// The d/t of the thinner wall studied in 3D (t 1.27, d 20.32 mm, docs/studies.md §10): its
@@ -78,12 +79,13 @@ pub fn at(case: &Case, model: Model, shape: ShapeKind, n: u32) -> ExpectedError 
             };
         }
         return ExpectedError {
-            percent: expected_error_percent(mode, model, shape, n),
-            basis: format!(
-                "expected, not priced: the paper's tube's 3D error at n = {n}, which covers \
-                 the d/t 14 tube's measured changes (n = 3 +9.8 % and n = 4 -0.2 % against \
-                 its n = 6; PVC, uGIMP, docs/studies.md §9)"
-            ),
+            percent: None,
+            basis: "no measured guide: the d/t 14 tube's 3D mean load alternates with the \
+                    parity of n through n = 6 (17.10 and 17.20 kN at n = 3 and 5, folding from \
+                    both ends; 15.54 and 15.57 kN at n = 4 and 6, from the fixed end; PVC, \
+                    uGIMP, docs/studies.md §9), so it has no converged value to measure an \
+                    error against; price this run's error bar (output.error_bar)"
+                .into(),
         };
     }
     let percent = expected_error_percent(mode, model, shape, n);
@@ -238,7 +240,8 @@ mod tests {
     }
 
     /// The paper's d/t 16 tube moved 20 % from n = 3 to 4: a wall nearer it than the d/t 14
-    /// tube borrows no figure from that one, and says why; one nearer the d/t 14 tube does.
+    /// tube has no measured guide and names that study; one nearer the d/t 14 tube names the
+    /// d/t 14 study.
     #[test]
     fn a_wall_nearer_the_unconverged_d_over_t_16_tube_has_no_measured_guide() {
         let d = |d_over_t: f64| {
@@ -253,25 +256,32 @@ mod tests {
         assert_eq!(paper.percent, None, "{paper:?}");
         assert!(paper.basis.starts_with("no measured guide: "), "{paper:?}");
         assert!(paper.basis.contains("§10"), "{paper:?}");
-        assert!(d(15.2).percent.is_none());
-        assert!(d(14.8).percent.is_some());
+        assert!(d(15.2).basis.contains("§10"), "{:?}", d(15.2));
+        let nearer_14 = d(14.8);
+        assert_eq!(nearer_14.percent, None, "{nearer_14:?}");
+        assert!(nearer_14.basis.contains("§9"), "{nearer_14:?}");
     }
 
-    /// The d/t 14 wall reads the paper's 3D errors, in a 3D axial uGIMP run only: its section,
-    /// a lateral crush or linear shapes have no guide.
+    /// What broke: the d/t 14 wall read the paper's 3D errors as its own (±11.6 % at n = 4), on
+    /// the strength of n = 4 and 6 agreeing within 0.3 %; n = 5 then ran 10.4 % above n = 6, so
+    /// the wall has no converged value. A 3D axial uGIMP run of it gets no figure and a reason
+    /// that says so; its section, a lateral crush or linear shapes get none either.
     #[test]
-    fn the_thin_wall_reads_the_paper_s_3d_errors_in_a_3d_axial_crush_only() {
+    fn the_d_over_t_14_wall_has_no_measured_guide_as_its_load_alternates_with_the_parity_of_n() {
         let thin = |extra: &str| {
             of_case(&case(&format!(
                 r#"{{"tube": {{"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4}},
                     "contact": {{"friction": 0.3}}{extra}}}"#
             )))
         };
-        let e = thin(r#", "discretization": {"particles_through_thickness": 4}"#);
-        let paper =
-            expected_error_percent(LoadingMode::Axial, Model::ThreeD, ShapeKind::Gimp, 4).unwrap();
-        assert_eq!(e.percent, Some(paper), "{e:?}");
-        assert!(e.basis.contains("d/t 14"), "{e:?}");
+        for n in [4, 5, 6] {
+            let e = thin(&format!(
+                r#", "discretization": {{"particles_through_thickness": {n}}}"#
+            ));
+            assert_eq!(e.percent, None, "n {n}: {e:?}");
+            assert!(e.basis.starts_with("no measured guide: "), "{e:?}");
+            assert!(e.basis.contains("parity of n"), "{e:?}");
+        }
         for extra in [
             r#", "discretization": {"model": "axisymmetric"}"#,
             r#", "loading": {"mode": "lateral"}"#,
