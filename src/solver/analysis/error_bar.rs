@@ -202,8 +202,8 @@ pub struct Rungs {
 }
 
 /// The rungs to run for `case`, after it collapsed in `mode`: its section's ladder where the
-/// section can fold that way, else for a 3D uGIMP run the 3D ladder; or why there is no ladder
-/// (the case's shape functions or its n).
+/// section can fold that way (uGIMP), else for a 3D uGIMP or B-spline run the 3D ladder; or why
+/// there is no ladder (the case's shape functions or its n).
 pub fn ladder(case: &Case, mode: CollapseMode) -> Result<Rungs, String> {
     let spec = case.spec();
     let three_d = spec.discretization.model == Model::ThreeD;
@@ -224,7 +224,7 @@ pub fn ladder(case: &Case, mode: CollapseMode) -> Result<Rungs, String> {
     });
     let (climb, specs) = match section {
         Ok(r) => (Climb::Section, r),
-        Err(why) if three_d && case.shape() == ShapeKind::Gimp => {
+        Err(why) if three_d && case.shape() != ShapeKind::Linear => {
             match three_d_rungs(spec, case.shape()) {
                 Ok(r) => (
                     Climb::ThreeD {

@@ -1,7 +1,8 @@
 //! The resolutions of a run's error-bar ladder (`analysis::error_bar` prices it): the tube's
 //! section at m, 1.5 m and 2 m particles through the wall, m = max(n, [`LOWEST_RUNG`]), and for
 //! a 3D run its section at its own n too; or, for a 3D run its section cannot price, the same
-//! 3D case at n − 2 and n − 1 below the run ([`three_d_rungs`]). The model owns the rungs so
+//! 3D case at n − 2 and n − 1 below the run, with its own shape functions ([`three_d_rungs`]).
+//! A section ladder runs uGIMP; a 3D ladder uGIMP or B-splines. The model owns the rungs so
 //! that a case asking for an error bar is held, with its rungs, to the runner's limits before
 //! it runs.
 
@@ -74,13 +75,17 @@ pub fn three_d_too_coarse(n: u32) -> String {
     )
 }
 
-/// The 3D ladder of a 3D `spec` (uGIMP): the same case at n − 2 and n − 1, and `None` for the
-/// run itself at n; or why it has none (its model, its shape functions, or n below 3).
+/// The 3D ladder of a 3D `spec` run with `shape` (uGIMP or B-splines): the same case, shape
+/// functions and all, at n − 2 and n − 1, and `None` for the run itself at n; or why it has
+/// none (its model, linear shapes, or n below 3). It needs no table of another tube's
+/// convergence: its rungs are this case's own runs.
 pub fn three_d_rungs(
     spec: &CaseSpec,
     shape: ShapeKind,
 ) -> Result<Vec<(u32, Option<CaseSpec>)>, String> {
-    gimp_only(shape)?;
+    if shape == ShapeKind::Linear {
+        return Err(LINEAR_HAS_NO_LADDER.into());
+    }
     if spec.discretization.model != Model::ThreeD {
         return Err("a 3D ladder climbs 3D runs: this run is a section".into());
     }
@@ -91,7 +96,7 @@ pub fn three_d_rungs(
     let rung = |k: u32| {
         let mut coarser = spec.clone();
         coarser.discretization.particles_through_thickness = k;
-        coarser.discretization.shape = Some(ShapeKind::Gimp);
+        coarser.discretization.shape = Some(shape);
         quiet(&mut coarser);
         (k, Some(coarser))
     };
@@ -105,19 +110,20 @@ fn quiet(spec: &mut CaseSpec) {
     spec.output.error_bar = false;
 }
 
-/// Why shape functions other than uGIMP have no ladder.
+/// Why linear shape functions have no ladder, of either kind.
+const LINEAR_HAS_NO_LADDER: &str = "linear shape functions (the default for a thin wall in 3D on \
+     near-frictionless plates) have no converged answer on thin walls to measure the error \
+     against yet (docs/studies.md §5); run with discretization.shape \"gimp\" for an error bar";
+
+/// Why shape functions other than uGIMP have no section ladder.
 fn gimp_only(shape: ShapeKind) -> Result<(), String> {
     match shape {
         ShapeKind::Gimp => Ok(()),
-        ShapeKind::Linear => Err(
-            "linear shape functions (the default for a thin wall in 3D) \
-             have no converged answer on thin walls to measure the error against yet \
-             (docs/studies.md §5); run with discretization.shape \"gimp\" for an error bar"
-                .into(),
-        ),
-        ShapeKind::Bspline => Err("B-splines have no error table yet (their convergence is \
-             measured in the axisymmetric section only: docs/folding.md); run with \
-             discretization.shape \"gimp\" for an error bar"
+        ShapeKind::Linear => Err(LINEAR_HAS_NO_LADDER.into()),
+        ShapeKind::Bspline => Err("B-splines have no section ladder (the section's rungs run \
+             uGIMP, whose error is not a B-spline run's); a 3D run of them climbs its own 3D \
+             ladder, a section run of them has none: run it with discretization.shape \"gimp\" \
+             for an error bar"
             .into()),
     }
 }

@@ -461,7 +461,7 @@ pub struct Output {
     /// at n = 6, a seventh at n = 8).
     #[schemars(
         title = "Error bar",
-        description = "Price the discretization error of the mean load and the first collapse peak after the run, with the tube's section at three resolutions (n or 8, 1.5x, 2x), whatever it costs. Left off, it is priced anyway where it costs at most a quarter of the run (3D from about n = 8), else the summary says why not. Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8."
+        description = "Price the discretization error of the mean load and the first collapse peak after the run, with the tube's section at three resolutions (n or 8, 1.5x, 2x), whatever it costs. Left off, it is priced anyway where it costs at most a quarter of the run (3D from about n = 8), else the summary says why not. Uniform GIMP and ring or flattening collapses only; costs 2.5x a 3D run at n = 4, 1/7 at n = 8. Asked for, a 3D run its section cannot price (a diamond, a global buckle, a tipped tube, a rectangular tube crushed axially, or B-spline shapes; n >= 3) climbs the same case in 3D at n - 2 and n - 1 instead (21 % of the run at n = 3, 68 % at n = 6). Linear shapes have none."
     )]
     pub error_bar: bool,
     /// Particle states kept as a time series for ParaView, at equal plate-travel intervals from

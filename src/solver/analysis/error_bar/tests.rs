@@ -167,10 +167,10 @@ fn linear_shapes_b_splines_lobes_below_n_3_and_too_fine_a_section_have_no_error_
     let ring = summary(1.0, CollapseMode::Ring);
     let linear = case(r#"{"discretization": {"shape": "linear"}}"#);
     assert!(ladder(&linear, ring.mode).unwrap_err().contains("linear"));
-    let bspline = case(r#"{"discretization": {"shape": "bspline"}}"#);
+    let bspline = case(r#"{"discretization": {"shape": "bspline", "model": "axisymmetric"}}"#);
     assert!(ladder(&bspline, ring.mode)
         .unwrap_err()
-        .contains("B-splines have no error table"));
+        .contains("B-splines have no section ladder"));
     let diamond = summary(1.0, CollapseMode::Diamond { lobes: 3 });
     let coarse = case(r#"{"discretization": {"shape": "gimp", "particles_through_thickness": 2}}"#);
     let why = ladder(&coarse, diamond.mode).unwrap_err();
@@ -363,6 +363,36 @@ fn a_3d_run_its_section_cannot_fold_climbs_the_same_case_at_n_minus_2_and_n_minu
     let r = ladder(&square, CollapseMode::Symmetric).unwrap();
     assert!(matches!(r.climb, Climb::ThreeD { .. }));
     assert_eq!(r.rungs.iter().map(|r| r.0).collect::<Vec<_>>(), [1, 2, 3]);
+}
+
+/// A 3D B-spline run has no section ladder (the section's rungs run uGIMP), so whatever its
+/// mode it climbs its own case at n − 2 and n − 1, on B-splines: the configuration that folded
+/// the d/t 14 tube from one end at n 4, 5 and 6 (docs/folding.md §4) gets an interval instead
+/// of `unavailable`. Linear shapes still get none.
+#[test]
+fn a_3d_b_spline_run_climbs_its_own_3d_ladder_on_b_splines_whatever_its_mode() {
+    let bspline = case(
+        r#"{"discretization": {"shape": "bspline", "particles_through_thickness": 5},
+            "contact": {"friction": 0.3}}"#,
+    );
+    for mode in [CollapseMode::Ring, CollapseMode::Diamond { lobes: 2 }] {
+        let r = ladder(&bspline, mode).unwrap();
+        assert!(
+            matches!(&r.climb, Climb::ThreeD { why_not_section } if why_not_section.contains("B-splines")),
+            "{:?}",
+            r.climb
+        );
+        let ns: Vec<(u32, bool)> = r.rungs.iter().map(|(n, c)| (*n, c.is_some())).collect();
+        assert_eq!(ns, [(3, true), (4, true), (5, false)]);
+        for rung in r.rungs.iter().filter_map(|(_, c)| c.as_ref()) {
+            assert_eq!(rung.shape(), ShapeKind::Bspline);
+            assert_eq!(rung.spec().discretization.model, Model::ThreeD);
+        }
+    }
+    let linear = case(r#"{"discretization": {"shape": "linear", "particles_through_thickness": 5}}"#);
+    let why = ladder(&linear, CollapseMode::Diamond { lobes: 2 }).unwrap_err();
+    assert!(why.contains("linear"), "{why}");
+    assert_eq!(why.matches("linear shape functions").count(), 1, "{why}");
 }
 
 /// f(n) = 15 000 + 20 000 / n² at n = 4, 5 and 6, the run at n = 6 its own finest rung: the
