@@ -389,7 +389,8 @@ fn a_3d_b_spline_run_climbs_its_own_3d_ladder_on_b_splines_whatever_its_mode() {
             assert_eq!(rung.spec().discretization.model, Model::ThreeD);
         }
     }
-    let linear = case(r#"{"discretization": {"shape": "linear", "particles_through_thickness": 5}}"#);
+    let linear =
+        case(r#"{"discretization": {"shape": "linear", "particles_through_thickness": 5}}"#);
     let why = ladder(&linear, CollapseMode::Diamond { lobes: 2 }).unwrap_err();
     assert!(why.contains("linear"), "{why}");
     assert_eq!(why.matches("linear shape functions").count(), 1, "{why}");
