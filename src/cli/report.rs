@@ -126,7 +126,7 @@ fn error_bar_lines(o: &mut String, s: &Summary) {
                 100.0 * l.error,
                 100.0 * l.error_low,
                 l.error_high
-                    .map_or_else(|| "?".to_string(), |e| format!("{:+.1}", 100.0 * e))
+                    .map_or_else(|| "+∞".to_string(), |e| format!("{:+.1}", 100.0 * e))
             );
             if let Some(p) = &l.first_peak {
                 let _ = writeln!(
@@ -304,7 +304,7 @@ fn verdict_line(v: &Verdict, s: &Summary) -> String {
             "within {:+.1} .. {} % of the converged mean load by its error bar",
             100.0 * l.error_low,
             l.error_high
-                .map_or_else(|| "?".to_string(), |e| format!("{:+.1}", 100.0 * e))
+                .map_or_else(|| "+∞".to_string(), |e| format!("{:+.1}", 100.0 * e))
         ),
         (
             _,

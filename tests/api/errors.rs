@@ -428,11 +428,11 @@ async fn cases_over_the_step_limits_are_refused_with_the_estimate() {
     assert_eq!(e["shape"]["kind"], "linear", "{e}");
     let why = e["shape"]["default_reason"].as_str().unwrap();
     assert!(why.contains("d/t = 26.1"), "{why}");
-    // The same wall on a platen's friction, which holds its ends: uGIMP, and why.
+    // The same wall on a platen's friction, which holds its ends: B-splines, and why.
     let mut held = thin.clone();
     held["contact"] = json!({"friction": 0.3});
     let e = app.estimate(&held).await;
-    assert_eq!(e["shape"]["kind"], "gimp", "{e}");
+    assert_eq!(e["shape"]["kind"], "bspline", "{e}");
     let why = e["shape"]["default_reason"].as_str().unwrap();
     assert!(why.contains("plates that hold its ends (μ 0.3"), "{why}");
     let mut named = thin.clone();

@@ -150,7 +150,9 @@ fn read(values: &[(u32, f64)], run_value: f64, run_n: u32, twin: bool) -> Readin
     let half = spread + twin_gap + MODEL_GAP_FLOOR * estimate.abs();
     Reading {
         estimate,
-        low: estimate - half,
+        // A crush load is the plates' push, never below zero: a spread wider than the
+        // estimate reaches down to zero load, not past it.
+        low: (estimate - half).max(0.0),
         high: estimate + half,
         extrapolation,
         trusted: trusted.is_some(),

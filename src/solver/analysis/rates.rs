@@ -211,8 +211,10 @@ pub fn law_factor(model: Model, law: LawKind) -> f64 {
 /// --steps 60` gave medians of 8.31 M (linear) and 5.62 M (uGIMP) on two threads, and whole
 /// 8 mm crushes of the AA6060-T5 tube (d 48.33, t 1.67, n 3) 7.99 M (linear) and 4.94 M (uGIMP,
 /// μ 0.3); the section: the README's first run (axisymmetric, n 6) 3.33 M on two threads.
-/// B-splines scaled from uGIMP by their ratio on a faster machine (2.7 against 6.6 M in 3D,
-/// 5.5 against 4.4 M in the section). Rounded down: a faster machine sees
+/// B-splines in 3D: the whole 60 mm crush of the d/t 14 tube at n 4 (110 528 particles, the
+/// same machine idle) ran 4.91 M on two threads, a particle-step 1.1 times uGIMP's
+/// (docs/folding.md §4); in the section, scaled from uGIMP by their ratio on a faster machine
+/// (5.5 against 4.4 M). Rounded down: a faster machine sees
 /// shorter runs than these say, and a server calibrates on its own runs.
 fn assumed_one_thread(model: Model, shape: ShapeKind) -> f64 {
     match (model, shape) {
@@ -220,7 +222,7 @@ fn assumed_one_thread(model: Model, shape: ShapeKind) -> f64 {
         (Model::ThreeD, ShapeKind::Linear) => 4.0e6,
         (_, ShapeKind::Gimp) => 2.2e6,
         (_, ShapeKind::Linear) => 3.1e6,
-        (Model::ThreeD, ShapeKind::Bspline) => 1.1e6,
+        (Model::ThreeD, ShapeKind::Bspline) => 2.4e6,
         (_, ShapeKind::Bspline) => 2.2e6,
     }
 }

@@ -33,6 +33,19 @@ impl Particles {
         self.x.is_empty()
     }
 
+    /// Room for `n` more particles in every array, exactly, so that a scene built particle by
+    /// particle holds no spare capacity (growth by doubling would leave up to half of each
+    /// array unused).
+    pub fn reserve_exact(&mut self, n: usize) {
+        self.x.reserve_exact(n);
+        self.v.reserve_exact(n);
+        self.stress.reserve_exact(n);
+        self.mass.reserve_exact(n);
+        self.vol.reserve_exact(n);
+        self.plastic_strain.reserve_exact(n);
+        self.id.reserve_exact(n);
+    }
+
     /// Adds a particle at rest, unstressed.
     pub fn push(&mut self, x: Vector3<Real>, mass: Real, vol: Real) {
         self.x.push(x);

@@ -47,7 +47,7 @@ impl Scene {
         let h = case.spacing_mm();
         let rho = spec.material.density_kg_m3 * 1e-6 * spec.discretization.mass_scaling;
         let mut particles = Particles::default();
-        particles.x.reserve_exact(case.particle_count() as usize);
+        particles.reserve_exact(case.particle_count() as usize);
         geometry.each_point(|x, vol| particles.push(x, rho * vol, vol));
         let speed = spec.loading.plate_speed_m_s;
         let (top, bottom) = geometry.plates_z();

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 pub const THIN_WALL_D_OVER_T: f64 = 8.0;
 
 /// The plate friction from which the plates hold a thin wall's ends, so that a 3D case of a
-/// thin wall runs with uGIMP by default (docs/folding.md §7). The thinnest tube measured (t
+/// thin wall runs with B-splines by default (docs/folding.md §7). The thinnest tube measured (t
 /// 0.76, d/t 26, n 2) tips over on μ 0.02, stays loaded on 0.1 but shears its middle 7.3 mm
 /// off the axis, and stands upright on 0.2 and 0.3 (drift 2.5 and 1.8 mm); the d = 10 and
 /// 12 mm tubes, which tipped over on 0.02, already stand on 0.1.
@@ -48,13 +48,14 @@ pub struct ShapeChoice {
 
 impl ShapeKind {
     /// The shape functions for a case that names none, and why: uGIMP, which converges with n
-    /// where linear shapes do not (docs/studies.md §1, docs/folding.md §7) and folds a tube
-    /// nearly alike when the whole crush moves through the grid (docs/folding.md §4, "Which
-    /// end folds first"), but for a thin wall (d/t ≥ [`THIN_WALL_D_OVER_T`]) in 3D on
-    /// near-frictionless plates (μ < [`HOLDING_FRICTION`]): uGIMP yields both ends of such a
-    /// tube at once and lets it tip over between such plates, which linear shapes do not
-    /// (their folds follow the wall's motion through the grid, and the verdict says so:
-    /// `frame_dependent`). A rectangular section's slenderness is its larger side over t (b/t).
+    /// where linear shapes do not (docs/studies.md §1, docs/folding.md §7); for a thin wall
+    /// (d/t ≥ [`THIN_WALL_D_OVER_T`]) in 3D, quadratic B-splines on plates that hold its ends
+    /// (μ ≥ [`HOLDING_FRICTION`]), where the d/t 14 tube's mean load settles with them and
+    /// alternates with the parity of n under uGIMP (docs/studies.md §9), and linear shapes on
+    /// near-frictionless plates, between which uGIMP and B-splines yield both ends of such a
+    /// tube at once and let it tip over (their folds follow the wall's motion through the
+    /// grid, and the verdict says so: `frame_dependent`). A rectangular section's slenderness
+    /// is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model, friction: f64) -> ShapeChoice {
         let slenderness = slenderness(section);
         let w = section.width_symbol();
@@ -70,12 +71,12 @@ impl ShapeKind {
                 ),
             ),
             Model::ThreeD if is_thin(section) => (
-                ShapeKind::Gimp,
+                ShapeKind::Bspline,
                 format!(
-                    "gimp: the default for a thin wall ({w}/t = {slenderness:.1} >= \
+                    "bspline: the default for a thin wall ({w}/t = {slenderness:.1} >= \
                      {THIN_WALL_D_OVER_T}) on plates that hold its ends (μ {friction} >= \
-                     {HOLDING_FRICTION}); it folds where the start's wave loads the wall most, \
-                     often at both ends (docs/folding.md §4)"
+                     {HOLDING_FRICTION}): on the d/t 14 tube their mean load settles from \
+                     n = 4, where uGIMP's alternates with the parity of n (docs/studies.md §9)"
                 ),
             ),
             Model::ThreeD => (

@@ -356,7 +356,7 @@ pub struct Discretization {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(
         title = "Shape functions",
-        description = "gimp: uniform GIMP; linear: trilinear hats; bspline: quadratic B-splines. Empty (auto): linear for a thin wall (d/t >= 8) in 3D on near-frictionless plates (μ < 0.2), else gimp; the estimate and the summary say which ran and why."
+        description = "gimp: uniform GIMP; linear: trilinear hats; bspline: quadratic B-splines. Empty (auto): for a thin wall (d/t >= 8) in 3D, linear on near-frictionless plates (μ < 0.2) and bspline on plates that hold its ends (μ >= 0.2); else gimp; the estimate and the summary say which ran and why."
     )]
     pub shape: Option<ShapeKind>,
     /// Share one volumetric strain rate and one pressure among the particles of each grid cell

@@ -467,3 +467,23 @@ fn a_3d_run_below_n_3_has_no_3d_ladder_and_says_why() {
     };
     assert!(why.contains("n ≥ 3") && why.contains("n − 2"), "{why}");
 }
+
+/// What broke: the d/t 14 tube at n 3 on B-splines climbs n 1, 2, 3 (33.220, 14.100, 16.643
+/// kN), whose spread is wider than the run's own load, and its interval reached down to
+/// −0.017 kN: a negative crush load. The interval now stops at zero load, and the run's error
+/// against that end is unbounded (none).
+#[test]
+fn an_interval_wider_than_the_load_stops_at_zero_load() {
+    let points = [(1, 33_219.5), (2, 14_099.9), (3, 16_642.9)];
+    let mut all = rungs(&points);
+    for r in &mut all {
+        r.first_peak_load_n = Some(r.mean_load_n);
+    }
+    let run = all[2].clone();
+    let l = three_d_ladder_of(from_rungs(Model::ThreeD, all, &run, true));
+    assert_eq!(l.low_n, 0.0, "{l:?}");
+    assert_eq!(l.error_high, None, "{l:?}");
+    assert!(l.high_n > 33_219.5, "{l:?}");
+    let p = l.first_peak.expect("a first-peak interval");
+    assert_eq!(p.low_n, 0.0, "{p:?}");
+}

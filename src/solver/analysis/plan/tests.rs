@@ -173,6 +173,37 @@ fn a_thin_walls_3d_ugimp_options_warn_of_tipping_over_on_slippery_plates_only() 
     assert!(tip(0.3).iter().all(|&t| !t));
 }
 
+/// The d/t 14 tube on a platen: its uGIMP and linear options have no guide (uGIMP's load
+/// alternates with the parity of n), its B-spline options read their own study, and a 5 %
+/// target picks B-splines at n = 4, the first n the study puts within it.
+#[test]
+fn a_thin_wall_s_plan_offers_b_splines_and_picks_them_for_a_five_percent_target() {
+    let text = r#"{"tube": {"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4},
+        "loading": {"crush_distance_mm": 60}, "contact": {"friction": 0.3},
+        "trigger": {"weak_fraction": 0.003}}"#;
+    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
+    let p = plan(
+        &case,
+        Goal::TargetErrorPercent(5.0),
+        2,
+        &Rates::assumed(),
+        &Limits::unbounded(),
+    );
+    for o in &p.options {
+        match o.shape {
+            ShapeKind::Bspline => assert!(o.expected_error_percent.is_some(), "{o:?}"),
+            _ => assert_eq!(o.expected_error_percent, None, "{o:?}"),
+        }
+    }
+    let pick = p.pick.expect("a pick");
+    assert_eq!(
+        (pick.shape, pick.n),
+        (ShapeKind::Bspline, 4),
+        "{}",
+        p.reason
+    );
+}
+
 /// An aluminium tube of d/t 29 is far from the studied PVC tube: no option quotes an expected
 /// error, each says why in itself, and the plan picks none rather than borrow the PVC figure.
 #[test]

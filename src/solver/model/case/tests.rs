@@ -57,22 +57,25 @@ fn the_default_shape_follows_the_wall_and_the_plates_in_3d_and_is_gimp_in_the_se
     assert_eq!(at.shape(), ShapeKind::Linear);
     let below = tube_case(1.0, THIN_WALL_D_OVER_T - 0.01, "{}");
     assert_eq!(below.shape(), ShapeKind::Gimp);
-    // On plates that hold the ends (from μ 0.2 on) a thin wall gets uGIMP, which converges
-    // and folds nearly alike whatever the wall's motion through the grid.
+    // On plates that hold the ends (from μ 0.2 on) a thin wall gets B-splines, whose mean load
+    // settles with n on the d/t 14 tube where uGIMP's alternates with the parity of n.
     let held = tube_case_on(0.76, 19.81, 0.3, "{}");
-    assert_eq!(held.shape(), ShapeKind::Gimp);
+    assert_eq!(held.shape(), ShapeKind::Bspline);
     assert_eq!(
         held.shape_choice().default_reason.as_deref(),
         Some(
-            "gimp: the default for a thin wall (d/t = 26.1 >= 8) on plates that hold its ends \
-             (μ 0.3 >= 0.2); it folds where the start's wave loads the wall most, often at \
-             both ends (docs/folding.md §4)"
+            "bspline: the default for a thin wall (d/t = 26.1 >= 8) on plates that hold its \
+             ends (μ 0.3 >= 0.2): on the d/t 14 tube their mean load settles from n = 4, where \
+             uGIMP's alternates with the parity of n (docs/studies.md §9)"
         )
     );
     let at = tube_case_on(1.27, 20.32, HOLDING_FRICTION, "{}");
-    assert_eq!(at.shape(), ShapeKind::Gimp);
+    assert_eq!(at.shape(), ShapeKind::Bspline);
     let below = tube_case_on(1.27, 20.32, HOLDING_FRICTION - 1e-3, "{}");
     assert_eq!(below.shape(), ShapeKind::Linear);
+    // A wall below the thin threshold keeps uGIMP on any plates.
+    let thick_held = tube_case_on(3.2, 22.2, 0.3, "{}");
+    assert_eq!(thick_held.shape(), ShapeKind::Gimp);
     // A reduced model has no global buckling to lose: uGIMP, which converges there.
     let section = tube_case(0.76, 19.81, r#"{"model": "axisymmetric"}"#);
     assert_eq!(section.shape(), ShapeKind::Gimp);
