@@ -75,6 +75,12 @@ fn expected_errors_are_the_tables_and_in_between_interpolated() {
     );
 }
 
+/// The plan on two threads at the assumed rates, without limits, of the case `text`.
+fn plan_of(text: &str, goal: Goal) -> Plan {
+    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
+    plan(&case, goal, 2, &Rates::assumed(), &Limits::unbounded())
+}
+
 fn paper_case(model: &str) -> Case {
     let text = format!(
         r#"{{"loading": {{"crush_distance_mm": 50}}, "discretization": {{"model": "{model}"}}}}"#
@@ -134,14 +140,7 @@ fn options_past_the_runners_limits_are_left_out_and_counted() {
 #[test]
 fn a_case_with_a_trigger_has_no_section_options() {
     let text = r#"{"trigger": {"weak_fraction": 0.1}}"#;
-    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
-    let p = plan(
-        &case,
-        Goal::BudgetS(60.0),
-        2,
-        &Rates::assumed(),
-        &Limits::unbounded(),
-    );
+    let p = plan_of(text, Goal::BudgetS(60.0));
     assert!(p.options.iter().all(|o| o.model == Model::ThreeD));
 }
 
@@ -152,14 +151,7 @@ fn a_thin_walls_3d_ugimp_options_warn_of_tipping_over_on_slippery_plates_only() 
             r#"{{"tube": {{"thickness_mm": 1.27, "mean_diameter_mm": 20.32}},
                 "contact": {{"friction": {friction}}}}}"#
         );
-        let case = Case::parse(spec_from_json(&text).unwrap(), &Limits::unbounded()).unwrap();
-        let p = plan(
-            &case,
-            Goal::BudgetS(60.0),
-            2,
-            &Rates::assumed(),
-            &Limits::unbounded(),
-        );
+        let p = plan_of(&text, Goal::BudgetS(60.0));
         p.options
             .iter()
             .filter(|o| o.model == Model::ThreeD && o.shape == ShapeKind::Gimp)
@@ -181,14 +173,7 @@ fn a_thin_wall_s_plan_offers_b_splines_and_picks_them_for_a_five_percent_target(
     let text = r#"{"tube": {"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4},
         "loading": {"crush_distance_mm": 60}, "contact": {"friction": 0.3},
         "trigger": {"weak_fraction": 0.003}}"#;
-    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
-    let p = plan(
-        &case,
-        Goal::TargetErrorPercent(5.0),
-        2,
-        &Rates::assumed(),
-        &Limits::unbounded(),
-    );
+    let p = plan_of(text, Goal::TargetErrorPercent(5.0));
     for o in &p.options {
         match o.shape {
             ShapeKind::Bspline => assert!(o.expected_error_percent.is_some(), "{o:?}"),
@@ -210,14 +195,7 @@ fn a_thin_wall_s_plan_offers_b_splines_and_picks_them_for_a_five_percent_target(
 fn a_case_far_from_the_studies_has_no_measured_guide_in_each_option() {
     let text = r#"{"material": {"preset": "aa6060_t5"},
         "tube": {"thickness_mm": 1.67, "mean_diameter_mm": 48.33, "length_mm": 100}}"#;
-    let case = Case::parse(spec_from_json(text).unwrap(), &Limits::unbounded()).unwrap();
-    let p = plan(
-        &case,
-        Goal::TargetErrorPercent(5.0),
-        2,
-        &Rates::assumed(),
-        &Limits::unbounded(),
-    );
+    let p = plan_of(text, Goal::TargetErrorPercent(5.0));
     assert!(!p.options.is_empty());
     for o in &p.options {
         assert_eq!(o.expected_error_percent, None, "{o:?}");
