@@ -12,7 +12,7 @@ pub use super::expected::{error_table, expected_error_percent, ERROR_BASIS};
 
 use super::estimate::cost;
 use super::rates::{RateBasis, Rates};
-use crate::solver::model::case::{is_thin, slenderness, ugimp_may_tip_over};
+use crate::solver::model::case::{is_thin, may_tip_over, slenderness};
 use crate::solver::model::case::{
     Case, CaseSpec, CrossSection, Limits, LoadingMode, Model, Outline, ShapeKind,
 };
@@ -178,7 +178,7 @@ fn shows(spec: &CaseSpec, model: Model, shape: ShapeKind) -> String {
     .to_string();
     if model == Model::ThreeD
         && shape != ShapeKind::Linear
-        && ugimp_may_tip_over(&section, spec.contact.friction)
+        && may_tip_over(&section, spec.contact.friction)
     {
         let who = match shape {
             ShapeKind::Bspline => "B-splines",

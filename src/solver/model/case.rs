@@ -6,7 +6,7 @@
 pub use super::geometry::{Circle, CrossSection, Geometry, Outline, Rectangle};
 pub use super::limits::{CaseError, FieldError, Limits, PARTICLE_ID_LIMIT};
 pub use super::shape_policy::{
-    is_thin, slenderness, ugimp_may_tip_over, ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T,
+    is_thin, may_tip_over, slenderness, ShapeChoice, HOLDING_FRICTION, THIN_WALL_D_OVER_T,
 };
 pub use super::spec::*;
 

@@ -31,9 +31,10 @@ pub fn is_thin(section: &CrossSection) -> bool {
     slenderness(section) >= THIN_WALL_D_OVER_T
 }
 
-/// Whether uGIMP can let this wall tip over in 3D between plates of this friction: a thin
-/// wall on plates below [`HOLDING_FRICTION`].
-pub fn ugimp_may_tip_over(section: &CrossSection, friction: f64) -> bool {
+/// Whether uGIMP and B-splines can let this wall tip over in 3D between plates of this
+/// friction (docs/folding.md §4, §7): a thin wall on plates below [`HOLDING_FRICTION`], where
+/// linear shapes are its default.
+pub fn may_tip_over(section: &CrossSection, friction: f64) -> bool {
     is_thin(section) && friction < HOLDING_FRICTION
 }
 
@@ -52,15 +53,15 @@ impl ShapeKind {
     /// (d/t ≥ [`THIN_WALL_D_OVER_T`]) in 3D, quadratic B-splines on plates that hold its ends
     /// (μ ≥ [`HOLDING_FRICTION`]), where the d/t 14 tube's mean load settles with them and
     /// alternates with the parity of n under uGIMP (docs/studies.md §9), and linear shapes on
-    /// near-frictionless plates, between which uGIMP and B-splines yield both ends of such a
-    /// tube at once and let it tip over (their folds follow the wall's motion through the
-    /// grid, and the verdict says so: `frame_dependent`). A rectangular section's slenderness
-    /// is its larger side over t (b/t).
+    /// near-frictionless plates ([`may_tip_over`]), between which uGIMP and B-splines yield
+    /// both ends of such a tube at once and let it tip over; linear shapes' folds there follow
+    /// the wall's motion through the grid, and the verdict says so (`frame_dependent`). A
+    /// rectangular section's slenderness is its larger side over t (b/t).
     pub fn default_for(section: &CrossSection, model: Model, friction: f64) -> ShapeChoice {
         let slenderness = slenderness(section);
         let w = section.width_symbol();
         let (kind, why) = match model {
-            Model::ThreeD if ugimp_may_tip_over(section, friction) => (
+            Model::ThreeD if may_tip_over(section, friction) => (
                 ShapeKind::Linear,
                 format!(
                     "linear: the default for a thin wall ({w}/t = {slenderness:.1} >= \
