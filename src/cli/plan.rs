@@ -66,8 +66,15 @@ pub fn plan(args: PlanArgs) -> anyhow::Result<()> {
         "  options on {threads} thread{} (wall times at the assumed rates):",
         if threads == 1 { "" } else { "s" }
     );
-    for o in &p.options {
-        println!("    {}", line(o));
+    for (i, o) in p.options.iter().enumerate() {
+        let first = p.options[..i]
+            .iter()
+            .find(|e| same_guide(e, o))
+            .map(|e| e.n);
+        match first {
+            Some(n) => println!("    {}", line_as_above(o, n)),
+            None => println!("    {}", line(o)),
+        }
     }
     if p.refused > 0 {
         println!(
@@ -91,4 +98,68 @@ fn line(o: &PlanOption) -> String {
         clock(o.wall_time_s),
         o.shows
     )
+}
+
+/// Whether two options of one model and shape functions have no measured guide for the same
+/// reason, which the listing then gives once.
+fn same_guide(a: &PlanOption, b: &PlanOption) -> bool {
+    a.model == b.model
+        && a.shape == b.shape
+        && a.expected_error_percent.is_none()
+        && b.expected_error_percent.is_none()
+        && a.error_guide == b.error_guide
+}
+
+/// An option whose reason for no guide the listing gave at n = `first` of the same model and
+/// shape functions: the reason named, not repeated.
+fn line_as_above(o: &PlanOption, first: u32) -> String {
+    format!(
+        "{} {} n = {}: no measured guide (as at n = {first}), about {}",
+        o.model.name(),
+        o.shape.name(),
+        o.n,
+        clock(o.wall_time_s),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::model::case::Case;
+
+    /// On the d/t 14 tube every uGIMP option has no guide for one reason: the listing gives it
+    /// once, at the first n, and names it at the others; the B-spline options keep their
+    /// figures.
+    #[test]
+    fn options_without_a_guide_for_one_reason_give_it_once() {
+        let text = std::fs::read_to_string("examples/axial_t3.2_d44.8.json").unwrap();
+        let case = Case::from_json(&text, &Limits::unbounded()).unwrap();
+        let limits = Limits::unbounded();
+        let p = solver_plan(
+            &case,
+            Goal::TargetErrorPercent(5.0),
+            2,
+            &Rates::assumed(),
+            &limits,
+        );
+        let gimp: Vec<_> = p
+            .options
+            .iter()
+            .filter(|o| o.shape.name() == "gimp")
+            .collect();
+        assert!(gimp.len() >= 3, "{:?}", p.options);
+        assert!(gimp[1..].iter().all(|o| same_guide(gimp[0], o)));
+        let again = line_as_above(gimp[1], gimp[0].n);
+        assert!(
+            again.contains(&format!("as at n = {}", gimp[0].n)),
+            "{again}"
+        );
+        assert!(again.len() * 3 < line(gimp[1]).len(), "{again}");
+        let bspline = p
+            .options
+            .iter()
+            .find(|o| o.shape.name() == "bspline")
+            .unwrap();
+        assert!(!p.options.iter().any(|o| same_guide(o, bspline)));
+    }
 }
