@@ -41,8 +41,10 @@ pub const THIN_D_OVER_T: f64 = 44.8 / 3.2;
 /// (d/t above the midpoint, 15) has no measured guide.
 pub const UNCONVERGED_D_OVER_T: f64 = 20.32 / 1.27;
 
-/// The plates' speed the studies crushed every tube at, m/s: a faster plate or a mass-scaled
-/// run carries more inertia than the runs the tables measured.
+/// The plates' speed the d/t 14 tube was studied at, m/s: a faster plate or a mass-scaled run
+/// carries more inertia than the runs its table measured, and that wall picks its mode under
+/// it. (A thick wall does not: the paper's tube kept its mean load within 2.3 % at 15 m/s and
+/// 0.4 % at mass scaling 4, so its tables guide such runs.)
 pub const STUDIED_PLATE_SPEED_M_S: f64 = 10.0;
 
 /// A run's expected error: its size where a study guides it, and what it is based on, or why
@@ -121,6 +123,9 @@ fn thin_wall(
              section can hold",
         );
     }
+    if let Err(why) = sped_up_beyond_the_study(case) {
+        return none(&why);
+    }
     let holding = case.spec().contact.friction >= HOLDING_FRICTION;
     match shape {
         ShapeKind::Bspline if holding && case.spec().trigger.weak_fraction <= 0.0 => none(
@@ -164,7 +169,6 @@ enum Wall {
 
 /// The studied wall that guides `case`, or why none does.
 fn guiding_wall(case: &Case) -> Result<Wall, String> {
-    sped_up_beyond_the_studies(case)?;
     let section = case.geometry().section;
     if !section.revolves() {
         return Err(format!(
@@ -212,25 +216,26 @@ fn guiding_wall(case: &Case) -> Result<Wall, String> {
     Ok(wall)
 }
 
-/// Why the studies do not guide a run faster than theirs, if it is: they ran unscaled at
-/// [`STUDIED_PLATE_SPEED_M_S`], and a speed-up that a thick wall does not notice moves a thin
-/// wall into another mode (docs/performance.md, *Mass scaling and the test speed*).
-fn sped_up_beyond_the_studies(case: &Case) -> Result<(), String> {
+/// Why the d/t 14 study does not guide a thin-wall run faster than its own, if it is: it ran
+/// unscaled at [`STUDIED_PLATE_SPEED_M_S`], and a speed-up moves a thin wall into another mode
+/// (docs/performance.md, *Mass scaling and the test speed*).
+fn sped_up_beyond_the_study(case: &Case) -> Result<(), String> {
     let spec = case.spec();
     let f = spec.discretization.mass_scaling;
     if f > 1.0 {
         return Err(format!(
-            "the studies ran unscaled, and mass scaling changes a thin wall's collapse: the d/t \
-             14 tube on B-splines at n = 4 folds in rings at f = 4, its mean load 21 % above \
-             the unscaled run's (docs/performance.md); this run's discretization.mass_scaling \
-             is {f}"
+            "the d/t 14 wall was studied unscaled, and mass scaling changes a thin wall's \
+             collapse: on B-splines at n = 4 it folds in rings at f = 2 to 16, its mean load \
+             16-35 % above the unscaled run's (docs/performance.md); this run's \
+             discretization.mass_scaling is {f}"
         ));
     }
     let v = spec.loading.plate_speed_m_s;
     if v > STUDIED_PLATE_SPEED_M_S {
         return Err(format!(
-            "the studies crushed at {STUDIED_PLATE_SPEED_M_S} m/s, and this plate's {v} m/s \
-             loads the wall with more inertia than they measured"
+            "the d/t 14 wall was studied at {STUDIED_PLATE_SPEED_M_S} m/s, and this plate's {v} \
+             m/s loads it with more inertia, which moved it into rings when mass scaling did \
+             the same (docs/performance.md)"
         ));
     }
     Ok(())
@@ -267,10 +272,11 @@ mod tests {
         assert_eq!(of_case(&l).percent, Some(0.8));
     }
 
-    /// A run faster than the studies' (mass-scaled, or its plate faster than theirs) gets no
-    /// figure, though its wall, shape and n are a study's: on the d/t 14 tube the speed-up
-    /// changed the mode and the mean load by a fifth. Nor does a thin wall without the
-    /// study's trigger, which folded in rings 18 % higher.
+    /// A thin-wall run faster than its study's (mass-scaled, or its plate faster) gets no
+    /// figure, though its wall, shape and n are the study's: on the d/t 14 tube the speed-up
+    /// changed the mode and the mean load by a fifth. Nor does one without the study's
+    /// trigger, which folded in rings 18 % higher. The paper's thick tube, which kept its
+    /// answer sped up, keeps its guide.
     #[test]
     fn a_sped_up_or_untriggered_thin_run_has_no_measured_guide() {
         let tube = r#""tube": {"thickness_mm": 3.2, "mean_diameter_mm": 44.8, "length_mm": 125.4},
@@ -295,10 +301,6 @@ mod tests {
                 ),
                 "20 m/s",
             ),
-            (
-                r#"{"discretization": {"mass_scaling": 2}}"#.to_string(),
-                "mass_scaling is 2",
-            ),
         ] {
             let e = of_case(&case(&json));
             assert_eq!(e.percent, None, "{json}");
@@ -312,8 +314,12 @@ mod tests {
         let e = of_case(&untriggered);
         assert_eq!(e.percent, None, "{e:?}");
         assert!(e.basis.contains("0.3 % trigger"), "{e:?}");
-        let slower = case(r#"{"loading": {"plate_speed_m_s": 5}}"#);
-        assert!(of_case(&slower).percent.is_some(), "{:?}", of_case(&slower));
+        for thick in [
+            r#"{"discretization": {"mass_scaling": 4}}"#,
+            r#"{"loading": {"plate_speed_m_s": 15}}"#,
+        ] {
+            assert_eq!(of_case(&case(thick)).percent, Some(11.6), "{thick}");
+        }
     }
 
     /// A case far from the studied tube gets no figure, and the reason names what differs.
