@@ -193,15 +193,21 @@ export const levelSeries = (label) => ({ label, dash: [8, 5], width: 1.5 });
 /// One marked point, as a series of `lineChart` (its data: null but at the point).
 export const markSeries = (label, fill) => ({ label, paths: () => null, points: { show: true, size: 11, width: 2, fill } });
 
-/// A uPlot line chart filling `container`'s width; `names` are the series' labels, or their
-/// uPlot options (see `levelSeries`, `markSeries`). Its legend sits below the plot, where it
-/// hides no part of a curve.
+/// A chart's size in a box `width` px wide: as wide as the box (a phone's too), never wider,
+/// for the page must not scroll sideways; half as tall, within 240–420 px.
+function chartSize(width) {
+  const w = Math.max(200, width || 600);
+  return { width: w, height: w < 500 ? 240 : Math.min(420, Math.round(w * 0.5)) };
+}
+
+/// A uPlot line chart filling `container`'s width, and following it when the window is resized
+/// or a phone turned; `names` are the series' labels, or their uPlot options (see
+/// `levelSeries`, `markSeries`). Its legend sits below the plot, where it hides no part of a
+/// curve.
 export function lineChart(container, { xLabel, yLabel, names, log }) {
-  // As wide as its box (a phone's too), never wider: the page must not scroll sideways.
-  const width = Math.max(200, container.clientWidth || 600);
   const axis = themed();
   const opts = {
-    width, height: width < 500 ? 240 : Math.min(420, Math.round(width * 0.5)),
+    ...chartSize(container.clientWidth),
     scales: { x: { time: false, distr: log ? 3 : 1 }, y: { distr: log ? 3 : 1 } },
     axes: [{ label: xLabel, ...axis }, { label: yLabel, ...axis }],
     series: [{ label: xLabel }].concat(names.map((n, i) => ({
@@ -218,7 +224,20 @@ export function lineChart(container, { xLabel, yLabel, names, log }) {
   };
   container.dataset.points = "0";
   container.dataset.series = String(names.length);
-  onLeave(() => chart.destroy());
+  // The box's width is the layout's, not the chart's: a new height does not call this again.
+  // Resized on the next frame, not inside the observer's callback, where a change of layout
+  // would be an error of the page ("ResizeObserver loop completed ...").
+  let live = true;
+  const resized = new ResizeObserver(() => requestAnimationFrame(() => {
+    const size = chartSize(container.clientWidth);
+    if (live && size.width !== chart.width) chart.setSize(size);
+  }));
+  resized.observe(container);
+  onLeave(() => {
+    live = false;
+    resized.disconnect();
+    chart.destroy();
+  });
   return { chart, set };
 }
 

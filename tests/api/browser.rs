@@ -426,6 +426,16 @@ async fn the_page_submits_watches_and_shows_runs_in_a_real_browser() {
     );
     assert_eq!(side_below, true, "the tables sit beside the chart");
     shot(&c, &shots, "4b-job-1280").await;
+    // A narrower window, not reloaded: the chart follows its box and the page does not scroll
+    // sideways.
+    c.set_window_size(700, 1400).await.unwrap();
+    until(
+        &c,
+        "const c = document.querySelector('#curve .uplot').getBoundingClientRect();          return c.width < 700 && document.documentElement.scrollWidth <= window.innerWidth;",
+        long,
+        "the chart narrowed with the window",
+    )
+    .await;
     c.set_window_size(1500, 1400).await.unwrap();
 
     let errors = js(&c, "return window.__errors;").await;
