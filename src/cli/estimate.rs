@@ -33,6 +33,10 @@ pub fn estimate(args: EstimateArgs) -> anyhow::Result<()> {
         Some(why) => println!("  shape functions {why}"),
         None => println!("  shape functions {}", e.shape.kind.name()),
     }
+    match &e.cfl_default_reason {
+        Some(why) => println!("  time step: CFL {why}"),
+        None => println!("  time step: CFL {}", e.cfl),
+    }
     if let Some(t) = e.error_bar_wall_time_s {
         println!("  error bar: its ladder roughly {} more", clock(t));
     }

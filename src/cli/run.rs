@@ -13,6 +13,7 @@ use super::progress::{clock, BarObserver};
 use super::report::{format_case_error, format_report};
 use super::series::{RunObserver, SeriesFiles};
 use crate::solver::analysis::error_bar::{self, Climb};
+use crate::solver::model::step_policy::DEFAULT_CFL;
 use crate::solver::{cores, estimate, Case, Limits, Runner, SolveError};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
@@ -104,6 +105,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     );
     if let Some(why) = &guess.shape.default_reason {
         eprintln!("  (shape functions {why})");
+    }
+    if let (Some(why), true) = (&guess.cfl_default_reason, guess.cfl != DEFAULT_CFL) {
+        eprintln!("  (time step: CFL {why})");
     }
     if let Some(r) = &guess.reduced {
         eprintln!(

@@ -373,7 +373,10 @@ mod tests {
                 "material.johnson_cook_reference_rate_per_s",
                 "loading.crush_distance_mm",
                 "loading.ramp_mm",
-                "discretization.shape"
+                "loading.test_speed_m_s",
+                "discretization.cfl",
+                "discretization.shape",
+                "discretization.mass_scaling"
             ]
         );
     }

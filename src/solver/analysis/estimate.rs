@@ -33,6 +33,11 @@ pub struct Estimate {
     pub threads: u32,
     /// The shape functions the case will run with, and why when it named none.
     pub shape: ShapeChoice,
+    /// The CFL number α the case will run with (Δt = α · cell / max(c + |v|)).
+    pub cfl: f64,
+    /// Why the case runs with `cfl`, when it named none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cfl_default_reason: Option<String>,
     /// For a 3D case whose scene has a symmetry (no trigger): the reduced model that would run
     /// it, and at what cost.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -189,6 +194,8 @@ pub(super) fn cost(case: &Case, threads: u32, rates: &Rates) -> Estimate {
         wall_time_basis: basis,
         threads,
         shape: case.shape_choice().clone(),
+        cfl: case.cfl(),
+        cfl_default_reason: case.cfl_default_reason().map(String::from),
         reduced: None,
         verdict: Verdict::of(foreseen(case)),
         error_bar_wall_time_s: None,

@@ -417,7 +417,7 @@ pub fn of_run(case: &Case, run: &RunFigures, detail: &ModeDetail) -> Verdict {
                 "set discretization.cfl {} (half the case's) to roughly halve the error at \
                  twice the steps: the energy books close to {:.1} % of the plates' work (over \
                  {:.0} % is {}; docs/folding.md §5, `crush study step` measures it)",
-                0.5 * case.spec().discretization.cfl,
+                0.5 * case.cfl(),
                 100.0 * e,
                 100.0 * over,
                 level.name().replace('_', " "),

@@ -73,7 +73,7 @@ impl Scene {
             friction: spec.contact.friction,
             cell,
             half_size: 0.5 * h,
-            cfl: spec.discretization.cfl,
+            cfl: case.cfl(),
             average_volumetric: spec.discretization.volumetric_averaging,
             domain: geometry.domain(cell),
             ramp: Ramp::over(case.ramp_mm(), speed),

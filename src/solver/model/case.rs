@@ -155,6 +155,23 @@ impl Case {
         self.shape.kind
     }
 
+    /// The CFL number the case runs with: its own, or the default for its wall and shape
+    /// functions ([`super::step_policy::default_cfl`]).
+    pub fn cfl(&self) -> f64 {
+        self.spec
+            .discretization
+            .cfl
+            .unwrap_or_else(|| super::step_policy::default_cfl(&self.geometry, self.shape()).0)
+    }
+
+    /// Why the case runs with [`Case::cfl`]: none when the case named it.
+    pub fn cfl_default_reason(&self) -> Option<&'static str> {
+        match self.spec.discretization.cfl {
+            Some(_) => None,
+            None => Some(super::step_policy::default_cfl(&self.geometry, self.shape()).1),
+        }
+    }
+
     /// [`Case::shape`] with whether, and why, it was chosen for the case.
     pub fn shape_choice(&self) -> &ShapeChoice {
         &self.shape

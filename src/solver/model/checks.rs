@@ -197,7 +197,9 @@ pub(super) fn discretization(c: &mut Checker, spec: &CaseSpec) {
         4.0,
         "must be in [1, 4]",
     );
-    if !(d.cfl.is_finite() && d.cfl > 0.0 && d.cfl <= 1.0) {
+    if d.cfl
+        .is_some_and(|a| !(a.is_finite() && a > 0.0 && a <= 1.0))
+    {
         c.fail("discretization.cfl", "must be > 0 and <= 1");
     }
 }

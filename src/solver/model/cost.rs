@@ -6,6 +6,7 @@ use super::checker::Checker;
 use super::geometry::{Geometry, Outline};
 use super::limits::{Limits, PARTICLE_ID_LIMIT};
 use super::spec::{run_wave_speed_m_s, CaseSpec};
+use super::step_policy::cfl_of;
 
 /// Explicit steps at the initial time step, Δt = α · cell / (c + v), in floating point; at
 /// least one per history row. The plate takes (crush + ramp) / v to crush: over the start
@@ -16,7 +17,7 @@ fn steps_f64(spec: &CaseSpec, crush_mm: f64) -> f64 {
     let cell =
         spec.tube.thickness_mm / d.particles_through_thickness as f64 * d.cell_to_particle_ratio;
     let speed = spec.loading.plate_speed_m_s;
-    let dt_ms = d.cfl * cell / (run_wave_speed_m_s(spec) + speed);
+    let dt_ms = cfl_of(spec) * cell / (run_wave_speed_m_s(spec) + speed);
     // A ramp the checks refuse (negative, past the crush, not a number) is held to [0, crush]
     // here: its own error names it.
     let ramp = spec

@@ -19,3 +19,4 @@ pub mod material;
 pub mod schema;
 pub mod shape_policy;
 pub mod spec;
+pub mod step_policy;

@@ -348,9 +348,12 @@ pub struct Discretization {
         range(min = 1, max = 4)
     )]
     pub cell_to_particle_ratio: f64,
-    /// α in Δt = α · cell / max(c + |v|).
-    #[schemars(title = "CFL number α", description = "Δt = α · cell / max(c + |v|).", extend("exclusiveMinimum" = 0, "maximum" = 1))]
-    pub cfl: f64,
+    /// α in Δt = α · cell / max(c + |v|). Omitted: chosen by the wall, the model and the shape
+    /// functions ([`super::step_policy::default_cfl`]); [`super::case::Case::cfl`] is the one
+    /// that runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(title = "CFL number α", description = "Δt = α · cell / max(c + |v|). Empty (auto): 0.8 for a thin wall (d/t >= 8) crushed axially in 3D on bspline shapes, 0.5 otherwise; the estimate says which runs and why.", extend("exclusiveMinimum" = 0, "maximum" = 1))]
+    pub cfl: Option<f64>,
     /// Omitted: chosen by the wall and the model ([`ShapeKind::default_for`]);
     /// [`super::case::Case::shape`] is the one that runs.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -392,7 +395,7 @@ impl Default for Discretization {
         Discretization {
             particles_through_thickness: 4,
             cell_to_particle_ratio: 2.0,
-            cfl: 0.5,
+            cfl: None,
             shape: None,
             volumetric_averaging: true,
             model: Model::ThreeD,
@@ -549,7 +552,10 @@ pub fn full_case() -> CaseSpec {
     };
     full.loading.crush_distance_mm = Some(0.0);
     full.loading.ramp_mm = Some(0.0);
+    full.loading.test_speed_m_s = Some(0.0);
+    full.discretization.cfl = Some(0.0);
     full.discretization.shape = Some(ShapeKind::Gimp);
+    full.discretization.mass_scaling = 2.0;
     full.output.frames = 2;
     full.tube.side_a_mm = Some(0.0);
     full.tube.side_b_mm = Some(0.0);

@@ -620,6 +620,25 @@ fn a_case_without_a_series_serializes_without_the_frames_field() {
     assert!(crate::solver::model::spec::field_paths().contains(&"output.frames".to_string()));
 }
 
+/// A field the default case leaves out of its JSON (mass scaling at 1, an empty test speed or
+/// CFL number) is still a field of the case: the form shows it and a sweep may vary it.
+#[test]
+fn fields_a_default_case_omits_are_still_fields_a_sweep_may_name() {
+    let json = serde_json::to_value(CaseSpec::default()).unwrap();
+    let paths = crate::solver::model::spec::field_paths();
+    for (section, field) in [
+        ("discretization", "mass_scaling"),
+        ("discretization", "cfl"),
+        ("loading", "test_speed_m_s"),
+    ] {
+        assert!(json[section].get(field).is_none(), "{section}.{field}");
+        assert!(
+            paths.contains(&format!("{section}.{field}")),
+            "{section}.{field}"
+        );
+    }
+}
+
 /// The fields a rectangular tube's case is refused for, in the order the checks name them.
 fn rectangular_refusals(tube: &str, rest: &str) -> Vec<(String, String)> {
     let text = format!(r#"{{"tube": {{"section": "rectangular", {tube}}}{rest}}}"#);
