@@ -187,11 +187,14 @@ pub fn blocks(r: &Report) -> Vec<Block> {
         "What crush's results come to beside the seed paper (Yang, Meguid & Zhang 2013), tubes \
          crushed in testing machines, and the closed forms, figure by figure: ours with its error \
          bar and verdict, the reference, their ratio and the band ours must stay in, with the \
-         band's reason. Written by `{}` on {} with {} threads; a scene's case is printed by \
+         band's reason. Written by `{}` on {} with {} thread{}; a scene's case is printed by \
          `crush validate --case SCENE`, and `crush run` on it prints the same numbers. The \
          suite and its bands are in src/cli/validate/, the measured tubes in \
          validation/measured_tests.json.",
-        r.command, r.machine, r.threads
+        r.command,
+        r.machine,
+        r.threads,
+        if r.threads == 1 { "" } else { "s" }
     )));
     let (inside, outside, stopped) = r.counts();
     let cached = r.scenes.iter().filter(|s| s.cached).count();

@@ -15,7 +15,7 @@ pub const DEFAULT_CFL: f64 = 0.5;
 /// PVC tube at n 4 and 6 15.795 and 15.743 kN against 15.635 and 15.767 (+1.0, −0.15 %), the
 /// d20 tube (d/t 16) at n 3 2.419 against 2.331 (+3.8 %; over the first 30 mm −0.5 %), the
 /// t 0.76 tube (d/t 26) at n 2 0.857 against 0.846 (+1.3 %), in 62–67 % of the steps, the books
-/// at 1.21–1.36 % against 0.68–0.85 %. The step's error is an order below the resolution's
+/// at 0.95–1.90 % against 0.45–0.92 % (the d20 tube at n 2 the most open). The step's error is an order below the resolution's
 /// there (12–20 % from n 3 to 4). At 1.0 the d/t 14 tube's books opened to 7.7 % (not trusted)
 /// for 10 % fewer steps than at 0.8.
 pub const THIN_WALL_BSPLINE_CFL: f64 = 0.8;
@@ -32,7 +32,7 @@ pub fn default_cfl(geometry: &Geometry, shape: ShapeKind) -> (f64, &'static str)
         true => (
             THIN_WALL_BSPLINE_CFL,
             "0.8: the default for a thin wall crushed axially in 3D on B-splines, where it kept \
-             0.5's mode and its mean load within 1 % at n 4 and 6 (1.3-3.8 % at n 2 and 3) in \
+             0.5's mode and its mean load within 1 % at n 4 and 6 (0.8-3.8 % at n 2 and 3) in \
              62-67 % of the steps (docs/performance.md)",
         ),
         false => (DEFAULT_CFL, "0.5: the default"),
