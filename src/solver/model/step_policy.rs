@@ -11,13 +11,13 @@ pub const DEFAULT_CFL: f64 = 0.5;
 
 /// The CFL number of a thin wall (d/t ≥ 8) crushed axially in 3D on B-splines that names none.
 /// Measured with `crush run` against 0.5 on the same code (docs/performance.md, *A longer time
-/// step*), each pair the same two-lobe diamond with the same folds and first peak: the d/t 14
-/// PVC tube at n 4 and 6 15.795 and 15.743 kN against 15.635 and 15.767 (+1.0, −0.15 %), the
-/// d20 tube (d/t 16) at n 3 2.419 against 2.331 (+3.8 %; over the first 30 mm −0.5 %), the
-/// t 0.76 tube (d/t 26) at n 2 0.857 against 0.846 (+1.3 %), in 62–67 % of the steps, the books
-/// at 0.95–1.90 % against 0.45–0.92 % (the d20 tube at n 2 the most open). The step's error is an order below the resolution's
-/// there (12–20 % from n 3 to 4). At 1.0 the d/t 14 tube's books opened to 7.7 % (not trusted)
-/// for 10 % fewer steps than at 0.8.
+/// step*), each pair the same two-lobe diamond with the same first peak: the d/t 14 PVC tube at
+/// n 4 and 6 15.795 and 15.743 kN against 15.635 and 15.767 (+1.0, −0.15 %); the d20 tube
+/// (d/t 16) at n 3 and 4 2.419 and 2.668 against 2.331 and 2.629 (+3.8, +1.5 %; at n 4 in four
+/// folds against three, its mean over the first 30 mm 4.5 % lower), a third of its 13 % from
+/// n 3 to 4; the t 0.76 tube (d/t 26) at n 2 0.857 against 0.846 (+1.3 %). 62–67 % of the
+/// steps, the books at 0.95–1.90 % against 0.45–0.92 % (the d20 tube at n 2 the most open).
+/// At 1.0 the d/t 14 tube's books opened to 7.7 % (not trusted) for 10 % fewer steps than 0.8.
 pub const THIN_WALL_BSPLINE_CFL: f64 = 0.8;
 
 /// The CFL number for a case that names none, and why: [`THIN_WALL_BSPLINE_CFL`] for a thin
@@ -32,8 +32,8 @@ pub fn default_cfl(geometry: &Geometry, shape: ShapeKind) -> (f64, &'static str)
         true => (
             THIN_WALL_BSPLINE_CFL,
             "0.8: the default for a thin wall crushed axially in 3D on B-splines, where it kept \
-             0.5's mode and its mean load within 1 % at n 4 and 6 (0.8-3.8 % at n 2 and 3) in \
-             62-67 % of the steps (docs/performance.md)",
+             0.5's mode and its mean load within 1 % on the d/t 14 tube and 0.8-3.8 % on \
+             thinner walls in 62-67 % of the steps (docs/performance.md)",
         ),
         false => (DEFAULT_CFL, "0.5: the default"),
     }
